@@ -1,0 +1,86 @@
+// The HoPE pipeline for one cloud: gravity alignment → grid filter → normals → horizontal
+// candidates → Z clustering → refinement with PCA → plane description.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "hope/grid_filter.h"
+#include "hope/gravity_alignment.h"
+#include "hope/params.h"
+#include "hope/plane.h"
+#include "hope/points_view.h"
+
+namespace hope {
+
+// Wall-clock milliseconds spent in each stage.
+struct StageTimings {
+  double alignment_ms = 0;
+  double grid_filter_ms = 0;
+  double normals_ms = 0;
+  double candidates_ms = 0;
+  double clustering_ms = 0;
+  double refinement_ms = 0;
+  double description_ms = 0;
+  double total_ms = 0;
+};
+
+struct Result {
+  std::vector<Plane> planes;
+  // One entry per input point, in input order: the index into `planes`, or -1 for points
+  // on no plane (including non-finite ones).
+  std::vector<std::int32_t> point_labels;
+  // The transform that was applied: points in `planes` are in the reference frame.
+  Eigen::Isometry3d sensor_to_reference = Eigen::Isometry3d::Identity();
+  StageTimings timings;
+  // Counts along the way, for diagnostics and tuning.
+  std::size_t input_points = 0;
+  std::size_t finite_points = 0;
+  std::size_t voxels = 0;
+  std::size_t candidates = 0;
+  std::size_t clusters = 0;
+  std::size_t rejected_by_refinement = 0;
+  std::size_t rejected_by_band_or_area = 0;
+  // Suspicious input that still produced a result (e.g. a cloud that looks like millimetres).
+  std::vector<std::string> warnings;
+
+  // Input indices of the points of plane `index`.
+  std::vector<std::uint32_t> pointsOf(std::size_t index) const;
+};
+
+class Extractor {
+ public:
+  // Throws std::invalid_argument when a parameter is out of range (see validate()).
+  explicit Extractor(const Params& params = Params());
+
+  const Params& params() const { return params_; }
+
+  // Finds the horizontal planes of one cloud. Non-finite points are skipped; an empty cloud,
+  // or one with no horizontal surface, gives an empty result. Throws std::invalid_argument
+  // only for input that cannot be a scene in metres (see VoxelGrid::build). Reuses internal
+  // buffers across calls, so one Extractor must not run two clouds concurrently.
+  Result extract(const PointsView& cloud, const Orientation& orientation);
+
+  template <class PointT>
+  Result extract(const pcl::PointCloud<PointT>& cloud, const Orientation& orientation) {
+    return extract(PointsView::of(cloud), orientation);
+  }
+
+  // Intermediate products of the last call, for visualization and tests.
+  const std::vector<Eigen::Vector3f>& alignedPoints() const { return aligned_; }
+  const VoxelGrid& grid() const { return grid_; }
+  const std::vector<Eigen::Vector3f>& voxelNormals() const { return normals_; }
+  const std::vector<std::uint8_t>& candidateMask() const { return is_candidate_; }
+
+ private:
+  Params params_;
+  std::vector<Eigen::Vector3f> aligned_;
+  VoxelGrid grid_;
+  std::vector<Eigen::Vector3f> normals_;
+  std::vector<std::uint8_t> is_candidate_;
+};
+
+}  // namespace hope

@@ -1,0 +1,50 @@
+// Gravity alignment (paper §2.2, Eq 1): bring the cloud from the sensor frame F_s into the
+// reference frame F_r whose z axis points up.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "hope/points_view.h"
+
+namespace hope {
+
+// The sensor's orientation (and optionally position) in the reference frame, ROS convention:
+// p_r = R · p_s + t, with R the ordinary rotation matrix of the unit quaternion. Note that
+// Eq 2 as printed in the paper is the transpose of R.
+class Orientation {
+ public:
+  // The cloud is already z-up (the paper's "omit when F_r equals F_s").
+  static Orientation identity();
+  // Quaternion in ROS order (x, y, z, w). Non-unit quaternions are normalized; zero-length,
+  // NaN or infinite ones throw std::invalid_argument.
+  static Orientation fromQuaternion(double qx, double qy, double qz, double qw);
+  // Fixed-axis roll (about x), pitch (about y), yaw (about z) in radians, R = Rz·Ry·Rx, as
+  // tf2::Quaternion::setRPY.
+  static Orientation fromRollPitchYaw(double roll, double pitch, double yaw);
+  // A full pose (a TUM ground-truth line: tx ty tz qx qy qz qw): heights become real heights.
+  static Orientation fromPose(double tx, double ty, double tz, double qx, double qy, double qz,
+                              double qw);
+  // The specific force measured by an accelerometer at rest, in the sensor frame. At rest it
+  // points UP (the reaction to gravity), e.g. (0, 0, +9.81) for a level sensor. Yaw is
+  // unobservable and irrelevant; the smallest rotation taking it to +z is used.
+  static Orientation fromGravity(double gx, double gy, double gz);
+  // Any rigid transform (sensor → reference); the rotation is re-orthonormalized.
+  static Orientation fromTransform(const Eigen::Isometry3d& sensor_to_reference);
+
+  const Eigen::Isometry3d& sensorToReference() const { return transform_; }
+  std::string describe() const;
+
+ private:
+  explicit Orientation(const Eigen::Isometry3d& t) : transform_(t) {}
+  Eigen::Isometry3d transform_ = Eigen::Isometry3d::Identity();
+};
+
+// Transforms every point into F_r. Non-finite input points become NaN so that later stages
+// (and per-point labels) keep the input order. Returns the number of finite points.
+std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
+                           std::vector<Eigen::Vector3f>& aligned);
+
+}  // namespace hope

@@ -1,0 +1,31 @@
+// Normals (paper §2.2): the normal of every voxel is the least-variance direction of the
+// centroids of its neighbouring voxels, found through the grid's column index instead of a
+// k-d tree.
+//
+// Neighbourhood. The paper takes the voxel centroids within δ·r_xy (δ = 1.01). Measured
+// between centroids that radius is fragile: a centroid sits wherever the points inside its
+// cell happen to be, so grid neighbours drift beyond 1.01·r_xy at random (a flat 1 × 1 m sheet
+// sampled on a regular grid lost enough normals to split into three planes), and on any slope
+// steeper than acos(1 / 1.01) ≈ 0.14 rad the 4-neighbours are always out of reach, so slopes
+// near atan(γ) get no normal at all. hope measures δ·r_xy between grid column centres instead
+// (δ = 1.01 selects the column and its 4 neighbours; δ ≥ √2 adds the diagonals) and accepts
+// those columns' voxels whose centroid lies within 2·r_z in height: steep enough for every
+// slope Eq 3 lets through (atan(√2·γ)), tight enough to keep a plane 3·r_z above out.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/grid_filter.h"
+
+namespace hope {
+
+// Writes one unit normal per voxel, oriented so that n_z >= 0 (the sign of a PCA normal is
+// arbitrary; §2.2 takes |n_z| for the same reason). A voxel with fewer than 3 neighbours
+// (itself included), or whose neighbours lie on a line, gets a NaN normal and can never be a
+// horizontal candidate.
+void estimateNormals(const VoxelGrid& grid, double radius_factor,
+                     std::vector<Eigen::Vector3f>& normals);
+
+}  // namespace hope

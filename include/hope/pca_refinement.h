@@ -1,0 +1,26 @@
+// Refinement with PCA (paper §2.4, Eq 4–10): rejects clusters that passed Eq 3 and Z clustering
+// but are not horizontal planes — gentle slopes, cones, the top of a lying tube, sphere caps.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hope {
+
+struct RefinementVerdict {
+  bool horizontal = false;
+  // Acute angle between the cluster's mean normal (Eq 4) and z, radians.
+  double mean_tilt = 0.0;
+  // Acute angle between the mean normals of the two PCA groups (Eq 9), radians. A flat plane
+  // has both groups around z; a curved surface splits into two diverging groups.
+  double group_angle = 0.0;
+};
+
+// Applies Eq 10 to the normals of `members`: horizontal when both angles are below atan γ.
+// Normals are expected oriented with n_z >= 0 (as estimateNormals gives them).
+RefinementVerdict refineWithPCA(const std::vector<Eigen::Vector3f>& normals,
+                                const std::vector<std::uint32_t>& members, double gamma);
+
+}  // namespace hope

@@ -1,0 +1,36 @@
+// What the extractor reports for each horizontal plane.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hope {
+
+struct Plane {
+  // Extraction order within the frame (0, 1, …); the tracker replaces it with a persistent id.
+  int id = 0;
+  // Mean z of the plane's input points in the reference frame, metres.
+  double height = 0.0;
+  // The paper's feature vector extents: x_min, y_min, x_max, y_max in the reference frame.
+  std::array<double, 4> bbox{{0, 0, 0, 0}};
+  // Mean of the plane's input points in the reference frame.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  // Unit normal of a least-squares plane through the input points, pointing up (n_z > 0).
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  // Angle between `normal` and the reference z axis, radians.
+  double tilt = 0.0;
+  // Footprint at grid resolution: occupied xy cells · r_xy², m².
+  double area = 0.0;
+  std::size_t num_voxels = 0;
+  std::size_t num_points = 0;
+  // Convex hull of the plane's points in xy, counter-clockwise seen from above, at z = height.
+  std::vector<Eigen::Vector3d> hull;
+  // The two angles of the refinement test (Eq 10), for diagnostics.
+  double mean_normal_tilt = 0.0;
+  double group_angle = 0.0;
+};
+
+}  // namespace hope

@@ -1,0 +1,24 @@
+// Plane description: turns a cluster that survived refinement into a Plane measured on the
+// full-resolution input points (not only voxel centroids).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/grid_filter.h"
+#include "hope/plane.h"
+
+namespace hope {
+
+// Height, bbox, centroid, least-squares normal, footprint area, counts and convex hull of the
+// input points in the cluster's voxels. `id` and the refinement angles are left to the caller.
+Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+                    const std::vector<std::uint32_t>& members);
+
+// Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
+// than three distinct points come back as they are (deduplicated).
+std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points);
+
+}  // namespace hope

@@ -1,0 +1,54 @@
+// A non-owning view of xyz points in any memory layout (PCL point types, PointCloud2 buffers,
+// plain float arrays), so the core never copies a cloud just to read it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include <pcl/point_cloud.h>
+
+namespace hope {
+
+struct PointsView {
+  const std::uint8_t* data = nullptr;  // first byte of the first point
+  std::size_t count = 0;               // number of points (width · height)
+  std::size_t stride = 0;              // bytes from one point to the next
+  std::size_t x_offset = 0, y_offset = 4, z_offset = 8;  // byte offsets of float32 x, y, z
+  std::uint32_t width = 0;   // organized: image columns; unorganized: count
+  std::uint32_t height = 1;  // organized: image rows; unorganized: 1
+
+  bool organized() const { return height > 1; }
+
+  float x(std::size_t i) const { return load(i, x_offset); }
+  float y(std::size_t i) const { return load(i, y_offset); }
+  float z(std::size_t i) const { return load(i, z_offset); }
+
+  // Any PCL point type with float x, y, z members.
+  template <class PointT>
+  static PointsView of(const pcl::PointCloud<PointT>& cloud) {
+    PointsView v;
+    v.data = cloud.empty() ? nullptr : reinterpret_cast<const std::uint8_t*>(&cloud.points[0]);
+    v.count = cloud.size();
+    v.stride = sizeof(PointT);
+    v.x_offset = offsetof(PointT, x);
+    v.y_offset = offsetof(PointT, y);
+    v.z_offset = offsetof(PointT, z);
+    v.width = cloud.width;
+    v.height = cloud.height;
+    if (static_cast<std::size_t>(v.width) * v.height != v.count) {  // inconsistent header
+      v.width = static_cast<std::uint32_t>(v.count);
+      v.height = 1;
+    }
+    return v;
+  }
+
+ private:
+  float load(std::size_t i, std::size_t offset) const {
+    float value;
+    std::memcpy(&value, data + i * stride + offset, sizeof(float));  // unaligned-safe
+    return value;
+  }
+};
+
+}  // namespace hope

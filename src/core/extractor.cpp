@@ -1,0 +1,109 @@
+#include "hope/extractor.h"
+
+#include <chrono>
+#include <sstream>
+
+#include "hope/horizontal_candidates.h"
+#include "hope/normal_estimation.h"
+#include "hope/pca_refinement.h"
+#include "hope/plane_description.h"
+#include "hope/z_clustering.h"
+
+namespace hope {
+
+namespace {
+
+class Stopwatch {
+ public:
+  // Milliseconds since the last lap (or construction).
+  double lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> Result::pointsOf(std::size_t index) const {
+  std::vector<std::uint32_t> indices;
+  for (std::size_t i = 0; i < point_labels.size(); ++i) {
+    if (point_labels[i] == static_cast<std::int32_t>(index)) {
+      indices.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  return indices;
+}
+
+Extractor::Extractor(const Params& params) : params_(params) { validate(params_); }
+
+Result Extractor::extract(const PointsView& cloud, const Orientation& orientation) {
+  Result result;
+  result.sensor_to_reference = orientation.sensorToReference();
+  result.input_points = cloud.count;
+  Stopwatch total, stage;
+
+  result.finite_points = alignToGravity(cloud, orientation, aligned_);
+  result.timings.alignment_ms = stage.lap();
+
+  grid_.build(aligned_, params_.r_xy, params_.r_z);
+  result.voxels = grid_.numVoxels();
+  const Eigen::Vector3d extent = grid_.extent();
+  // No indoor scene and few outdoor scans span a kilometre: such a cloud is almost always in
+  // millimetres, which would make every plane look like a slope.
+  if (extent.maxCoeff() > 1000.0) {
+    std::ostringstream msg;
+    msg << "the cloud spans " << extent.x() << " x " << extent.y() << " x " << extent.z()
+        << " m; hope expects metres (is it in millimetres?)";
+    result.warnings.push_back(msg.str());
+  }
+  result.timings.grid_filter_ms = stage.lap();
+
+  estimateNormals(grid_, params_.normal_radius_factor, normals_);
+  result.timings.normals_ms = stage.lap();
+
+  const double gamma = params_.gamma();
+  result.candidates = selectHorizontalCandidates(normals_, gamma, is_candidate_);
+  result.timings.candidates_ms = stage.lap();
+
+  const auto clusters = zClustering(grid_, is_candidate_, params_.r_z, params_.min_cluster_voxels);
+  result.clusters = clusters.size();
+  result.timings.clustering_ms = stage.lap();
+
+  std::vector<std::size_t> kept;
+  std::vector<RefinementVerdict> verdicts(clusters.size());
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    verdicts[c] = refineWithPCA(normals_, clusters[c], gamma);
+    if (verdicts[c].horizontal) kept.push_back(c);
+  }
+  result.rejected_by_refinement = clusters.size() - kept.size();
+  result.timings.refinement_ms = stage.lap();
+
+  result.point_labels.assign(cloud.count, -1);
+  for (std::size_t c : kept) {
+    Plane plane = describePlane(grid_, aligned_, clusters[c]);
+    if (plane.height < params_.min_height || plane.height > params_.max_height ||
+        plane.area < params_.min_area) {
+      ++result.rejected_by_band_or_area;
+      continue;
+    }
+    plane.id = static_cast<int>(result.planes.size());
+    plane.mean_normal_tilt = verdicts[c].mean_tilt;
+    plane.group_angle = verdicts[c].group_angle;
+    for (std::uint32_t v : clusters[c]) {
+      for (const std::uint32_t* it = grid_.pointsBegin(v); it != grid_.pointsEnd(v); ++it) {
+        result.point_labels[*it] = plane.id;
+      }
+    }
+    result.planes.push_back(std::move(plane));
+  }
+  result.timings.description_ms = stage.lap();
+  result.timings.total_ms = total.lap();
+  return result;
+}
+
+}  // namespace hope

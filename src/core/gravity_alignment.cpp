@@ -1,0 +1,124 @@
+#include "hope/gravity_alignment.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace hope {
+
+namespace {
+
+Eigen::Quaterniond checkedUnitQuaternion(double qx, double qy, double qz, double qw) {
+  if (!std::isfinite(qx) || !std::isfinite(qy) || !std::isfinite(qz) || !std::isfinite(qw)) {
+    std::ostringstream msg;
+    msg << "orientation quaternion (x y z w) = (" << qx << " " << qy << " " << qz << " " << qw
+        << ") has a NaN or infinite component";
+    throw std::invalid_argument(msg.str());
+  }
+  const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
+  // Below this a quaternion carries no direction worth trusting (e.g. an IMU that reports
+  // all zeros when it has no orientation estimate).
+  if (norm < 1e-6) {
+    std::ostringstream msg;
+    msg << "orientation quaternion (x y z w) = (" << qx << " " << qy << " " << qz << " " << qw
+        << ") has zero length; it describes no rotation (an IMU without an orientation "
+           "estimate? use gravity instead)";
+    throw std::invalid_argument(msg.str());
+  }
+  return Eigen::Quaterniond(qw / norm, qx / norm, qy / norm, qz / norm);
+}
+
+void requireFinite(const char* what, double a, double b, double c) {
+  if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c)) {
+    std::ostringstream msg;
+    msg << what << " (" << a << " " << b << " " << c << ") has a NaN or infinite component";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace
+
+Orientation Orientation::identity() { return Orientation(Eigen::Isometry3d::Identity()); }
+
+Orientation Orientation::fromQuaternion(double qx, double qy, double qz, double qw) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = checkedUnitQuaternion(qx, qy, qz, qw).toRotationMatrix();
+  return Orientation(t);
+}
+
+Orientation Orientation::fromRollPitchYaw(double roll, double pitch, double yaw) {
+  requireFinite("roll/pitch/yaw", roll, pitch, yaw);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  return Orientation(t);
+}
+
+Orientation Orientation::fromPose(double tx, double ty, double tz, double qx, double qy, double qz,
+                                  double qw) {
+  requireFinite("pose translation", tx, ty, tz);
+  Orientation o = fromQuaternion(qx, qy, qz, qw);
+  o.transform_.translation() = Eigen::Vector3d(tx, ty, tz);
+  return o;
+}
+
+Orientation Orientation::fromGravity(double gx, double gy, double gz) {
+  requireFinite("gravity vector", gx, gy, gz);
+  const Eigen::Vector3d up(gx, gy, gz);
+  const double norm = up.norm();
+  if (norm < 1e-6) {
+    throw std::invalid_argument(
+        "gravity vector has zero length; an accelerometer at rest measures about 9.81 m/s^2");
+  }
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond::FromTwoVectors(up / norm, Eigen::Vector3d::UnitZ())
+                   .normalized()
+                   .toRotationMatrix();
+  return Orientation(t);
+}
+
+Orientation Orientation::fromTransform(const Eigen::Isometry3d& sensor_to_reference) {
+  const Eigen::Matrix4d& m = sensor_to_reference.matrix();
+  if (!m.allFinite()) {
+    throw std::invalid_argument("sensor-to-reference transform has a NaN or infinite entry");
+  }
+  Eigen::Quaterniond q(sensor_to_reference.linear());
+  const Eigen::Vector3d& p = sensor_to_reference.translation();
+  return fromPose(p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+}
+
+std::string Orientation::describe() const {
+  const Eigen::Quaterniond q(transform_.linear());
+  const Eigen::Vector3d& p = transform_.translation();
+  std::ostringstream s;
+  s << "t = (" << p.x() << ", " << p.y() << ", " << p.z() << "), q (x y z w) = (" << q.x()
+    << ", " << q.y() << ", " << q.z() << ", " << q.w() << ")";
+  return s.str();
+}
+
+std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
+                           std::vector<Eigen::Vector3f>& aligned) {
+  const Eigen::Matrix3f r = orientation.sensorToReference().linear().cast<float>();
+  const Eigen::Vector3f t = orientation.sensorToReference().translation().cast<float>();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  aligned.resize(input.count);
+  std::size_t finite = 0;
+  for (std::size_t i = 0; i < input.count; ++i) {
+    const Eigen::Vector3f p(input.x(i), input.y(i), input.z(i));
+    const Eigen::Vector3f q = r * p + t;
+    // A finite but astronomically large input can overflow to infinity here: treat it like
+    // a missing measurement rather than let it poison the grid bounds.
+    if (p.allFinite() && q.allFinite()) {
+      aligned[i] = q;
+      ++finite;
+    } else {
+      aligned[i] = Eigen::Vector3f(nan, nan, nan);
+    }
+  }
+  return finite;
+}
+
+}  // namespace hope

@@ -1,0 +1,107 @@
+#include "hope/plane_description.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+namespace hope {
+
+namespace {
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
+  auto less = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  };
+  std::sort(points.begin(), points.end(), less);
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return points;
+  std::vector<Eigen::Vector2d> hull(2 * points.size());
+  std::size_t k = 0;
+  for (const auto& p : points) {  // lower chain
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
+    hull[k++] = p;
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);  // the last point repeats the first
+  return hull;
+}
+
+Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+                    const std::vector<std::uint32_t>& members) {
+  Plane plane;
+  plane.num_voxels = members.size();
+  if (members.empty()) return plane;
+
+  // Offsets from a reference point keep the second moments well conditioned.
+  const Eigen::Vector3d ref = grid.centroid(members.front()).cast<double>();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+  // The hull of all points equals the hull of each voxel's xy-extreme points, which are far
+  // fewer: up to four per voxel.
+  std::vector<Eigen::Vector2d> hull_candidates;
+  hull_candidates.reserve(4 * members.size());
+  std::vector<std::uint64_t> columns;
+  columns.reserve(members.size());
+  std::size_t count = 0;
+
+  for (std::uint32_t v : members) {
+    columns.push_back(grid.column(v));
+    const std::uint32_t* begin = grid.pointsBegin(v);
+    const std::uint32_t* end = grid.pointsEnd(v);
+    const std::uint32_t* extreme[4] = {begin, begin, begin, begin};  // min x, max x, min y, max y
+    for (const std::uint32_t* it = begin; it != end; ++it) {
+      const Eigen::Vector3f& p = aligned[*it];
+      const Eigen::Vector3d d = p.cast<double>() - ref;
+      sum += d;
+      outer.noalias() += d * d.transpose();
+      if (p.x() < aligned[*extreme[0]].x()) extreme[0] = it;
+      if (p.x() > aligned[*extreme[1]].x()) extreme[1] = it;
+      if (p.y() < aligned[*extreme[2]].y()) extreme[2] = it;
+      if (p.y() > aligned[*extreme[3]].y()) extreme[3] = it;
+    }
+    count += static_cast<std::size_t>(end - begin);
+    for (const std::uint32_t* e : extreme) {
+      const Eigen::Vector3f& p = aligned[*e];
+      hull_candidates.emplace_back(p.x(), p.y());
+      lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y()));
+      hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
+    }
+  }
+
+  plane.num_points = count;
+  const Eigen::Vector3d mean = sum / static_cast<double>(count);
+  plane.centroid = ref + mean;
+  plane.height = plane.centroid.z();
+  plane.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
+
+  const Eigen::Matrix3d covariance = outer / static_cast<double>(count) - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Eigen::Vector3d n = solver.eigenvectors().col(0);
+  if (n.allFinite() && n.norm() > 0.5) {
+    n.normalize();
+    plane.normal = n.z() < 0 ? Eigen::Vector3d(-n) : n;
+  }
+  plane.tilt = std::acos(std::min(1.0, plane.normal.z()));
+
+  std::sort(columns.begin(), columns.end());
+  const auto distinct = std::unique(columns.begin(), columns.end()) - columns.begin();
+  plane.area = static_cast<double>(distinct) * grid.rXY() * grid.rXY();
+
+  for (const Eigen::Vector2d& h : convexHull2D(std::move(hull_candidates))) {
+    plane.hull.emplace_back(h.x(), h.y(), plane.height);
+  }
+  return plane;
+}
+
+}  // namespace hope

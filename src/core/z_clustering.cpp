@@ -1,0 +1,47 @@
+#include "hope/z_clustering.h"
+
+#include <cmath>
+
+namespace hope {
+
+std::vector<std::vector<std::uint32_t>> zClustering(const VoxelGrid& grid,
+                                                    const std::vector<std::uint8_t>& is_candidate,
+                                                    double r_z, int min_voxels) {
+  std::vector<std::vector<std::uint32_t>> clusters;
+  const std::size_t num_voxels = grid.numVoxels();
+  std::vector<std::uint8_t> visited(num_voxels, 0);
+  std::vector<std::uint32_t> members;
+  const float max_step = static_cast<float>(r_z);
+
+  for (std::size_t seed = 0; seed < num_voxels; ++seed) {
+    if (!is_candidate[seed] || visited[seed]) continue;
+    members.clear();
+    members.push_back(static_cast<std::uint32_t>(seed));
+    visited[seed] = 1;
+    // `members` doubles as the region-growing queue.
+    for (std::size_t head = 0; head < members.size(); ++head) {
+      const std::uint32_t v = members[head];
+      const float z = grid.centroid(v).z();
+      const int cx = grid.cellX(v), cy = grid.cellY(v), cz = grid.cellZ(v);
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto range = grid.columnVoxels(cx + dx, cy + dy);
+          for (std::uint32_t u = range.first; u < range.second; ++u) {
+            const int uz = grid.cellZ(u);
+            // Centroids less than r_z apart are at most one z cell apart.
+            if (uz < cz - 1) continue;
+            if (uz > cz + 1) break;
+            if (visited[u] || !is_candidate[u]) continue;
+            if (std::fabs(grid.centroid(u).z() - z) >= max_step) continue;
+            visited[u] = 1;
+            members.push_back(u);
+          }
+        }
+      }
+    }
+    if (static_cast<int>(members.size()) >= min_voxels) clusters.push_back(members);
+  }
+  return clusters;
+}
+
+}  // namespace hope

@@ -1,0 +1,152 @@
+#include "hope/tools/overlay.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+namespace hope {
+namespace tools {
+
+cv::Vec3b vocColor(int index) {
+  int r = 0, g = 0, b = 0;
+  int c = index;
+  for (int bit = 7; bit >= 0 && c > 0; --bit) {
+    r |= (c & 1) << bit;
+    g |= ((c >> 1) & 1) << bit;
+    b |= ((c >> 2) & 1) << bit;
+    c >>= 3;
+  }
+  return cv::Vec3b(static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r));
+}
+
+namespace {
+
+std::string planeText(const Plane& plane) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%d: %.2fm", plane.id, plane.height);
+  return text;
+}
+
+// White text with a dark outline, readable on any background, centred on `at`.
+void drawLabel(cv::Mat& image, const std::string& text, cv::Point at, double scale) {
+  int baseline = 0;
+  const int thickness = std::max(1, static_cast<int>(std::lround(scale * 1.5)));
+  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
+  cv::Point origin(at.x - size.width / 2, at.y + size.height / 2);
+  origin.x = std::clamp(origin.x, 2, std::max(2, image.cols - size.width - 2));
+  origin.y = std::clamp(origin.y, size.height + 2, std::max(size.height + 2, image.rows - 2));
+  cv::putText(image, text, origin, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0),
+              thickness + 2, cv::LINE_AA);
+  cv::putText(image, text, origin, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(255, 255, 255),
+              thickness, cv::LINE_AA);
+}
+
+cv::Vec3b tint(const cv::Vec3b& base, const cv::Vec3b& color) {
+  return cv::Vec3b(static_cast<uchar>((base[0] + 2 * color[0]) / 3),
+                   static_cast<uchar>((base[1] + 2 * color[1]) / 3),
+                   static_cast<uchar>((base[2] + 2 * color[2]) / 3));
+}
+
+cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
+                     const Result& result) {
+  const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
+  cv::Mat image(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
+  float near = HUGE_VALF, far = 0;
+  if (!has_color) {
+    for (const auto& p : cloud) {
+      if (std::isfinite(p.z)) {
+        near = std::min(near, p.z);
+        far = std::max(far, p.z);
+      }
+    }
+  }
+  std::vector<Eigen::Vector2d> pixel_sum(result.planes.size(), Eigen::Vector2d::Zero());
+  std::vector<std::size_t> pixel_count(result.planes.size(), 0);
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * w + c;
+      const pcl::PointXYZRGB& p = cloud[i];
+      cv::Vec3b base(0, 0, 0);
+      if (has_color) {
+        base = cv::Vec3b(p.b, p.g, p.r);
+      } else if (std::isfinite(p.z) && far > near) {
+        const auto grey = static_cast<uchar>(230 - 180 * (p.z - near) / (far - near));
+        base = cv::Vec3b(grey, grey, grey);
+      }
+      const int label = result.point_labels[i];
+      if (label >= 0) {
+        base = tint(base, vocColor(result.planes[label].id + 1));
+        pixel_sum[label] += Eigen::Vector2d(c, r);
+        ++pixel_count[label];
+      }
+      image.at<cv::Vec3b>(r, c) = base;
+    }
+  }
+  const double scale = std::max(0.4, w / 1100.0);
+  for (std::size_t k = 0; k < result.planes.size(); ++k) {
+    if (pixel_count[k] == 0) continue;
+    const Eigen::Vector2d at = pixel_sum[k] / static_cast<double>(pixel_count[k]);
+    drawLabel(image, planeText(result.planes[k]), cv::Point(static_cast<int>(at.x()), static_cast<int>(at.y())), scale);
+  }
+  return image;
+}
+
+cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result& result) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(HUGE_VALF), hi = -lo;
+  for (const auto& p : aligned) {
+    if (!p.allFinite()) continue;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const int max_side = 1000, margin = 20;
+  if (!(hi.x() >= lo.x())) return cv::Mat(max_side / 2, max_side / 2, CV_8UC3, cv::Scalar(0, 0, 0));
+  const float span = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1e-3f});
+  const float pixels_per_metre = (max_side - 2 * margin) / span;
+  const int w = static_cast<int>((hi.x() - lo.x()) * pixels_per_metre) + 2 * margin + 1;
+  const int h = static_cast<int>((hi.y() - lo.y()) * pixels_per_metre) + 2 * margin + 1;
+  auto toPixel = [&](double x, double y) {  // north up: +y towards the top of the image
+    return cv::Point(margin + static_cast<int>((x - lo.x()) * pixels_per_metre),
+                     h - 1 - margin - static_cast<int>((y - lo.y()) * pixels_per_metre));
+  };
+  cv::Mat image(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
+  cv::Mat top_z(h, w, CV_32FC1, cv::Scalar(-HUGE_VALF));
+  const float z_span = std::max(hi.z() - lo.z(), 1e-3f);
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    const Eigen::Vector3f& p = aligned[i];
+    if (!p.allFinite()) continue;
+    const cv::Point px = toPixel(p.x(), p.y());
+    float& z = top_z.at<float>(px);
+    if (p.z() < z) continue;  // keep what is visible from above
+    z = p.z();
+    const auto grey = static_cast<uchar>(60 + 170 * (p.z() - lo.z()) / z_span);
+    cv::Vec3b color(grey, grey, grey);
+    const int label = result.point_labels[i];
+    if (label >= 0) color = tint(color, vocColor(result.planes[label].id + 1));
+    image.at<cv::Vec3b>(px) = color;
+  }
+  for (const Plane& plane : result.planes) {
+    std::vector<cv::Point> polygon;
+    for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x(), v.y()));
+    if (polygon.size() >= 2) {
+      const cv::Vec3b c = vocColor(plane.id + 1);
+      cv::polylines(image, polygon, true, cv::Scalar(c[0], c[1], c[2]), 2, cv::LINE_AA);
+    }
+    drawLabel(image, planeText(plane), toPixel(plane.centroid.x(), plane.centroid.y()), 0.6);
+  }
+  return image;
+}
+
+}  // namespace
+
+cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
+                      const std::vector<Eigen::Vector3f>& aligned, const Result& result) {
+  if (cloud.height > 1 && cloud.width * cloud.height == cloud.size()) {
+    return imageOverlay(cloud, has_color, result);
+  }
+  return topDownOverlay(aligned, result);
+}
+
+}  // namespace tools
+}  // namespace hope

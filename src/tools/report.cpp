@@ -1,0 +1,96 @@
+#include "hope/tools/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+
+namespace hope {
+namespace tools {
+
+namespace {
+
+// JSON has no NaN or infinity; none should reach here, but never write invalid JSON.
+std::string number(double value, int precision = 6) {
+  if (!std::isfinite(value)) return "null";
+  char text[40];
+  std::snprintf(text, sizeof(text), "%.*g", precision, value);
+  return text;
+}
+
+std::string vec3(const Eigen::Vector3d& v) {
+  return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]";
+}
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += ' ';
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+void printTable(std::ostream& out, const Result& result) {
+  char line[200];
+  std::snprintf(line, sizeof(line), "%4s %9s %9s %9s %8s  %s\n", "id", "height_m", "area_m2",
+                "points", "tilt_deg", "bbox x_min y_min x_max y_max (m)");
+  out << line;
+  for (const Plane& p : result.planes) {
+    std::snprintf(line, sizeof(line), "%4d %9.3f %9.3f %9zu %8.2f  %.3f %.3f %.3f %.3f\n", p.id,
+                  p.height, p.area, p.num_points, p.tilt * 180.0 / M_PI, p.bbox[0], p.bbox[1],
+                  p.bbox[2], p.bbox[3]);
+    out << line;
+  }
+  const StageTimings& t = result.timings;
+  out << result.planes.size() << " plane(s) from " << result.finite_points << " finite of "
+      << result.input_points << " points, " << result.voxels << " voxels, " << result.candidates
+      << " candidates, " << result.clusters << " clusters (" << result.rejected_by_refinement
+      << " rejected by refinement, " << result.rejected_by_band_or_area
+      << " by height band / area)\n";
+  out << std::fixed << std::setprecision(2) << "time " << t.total_ms << " ms: alignment "
+      << t.alignment_ms << ", grid " << t.grid_filter_ms << ", normals " << t.normals_ms
+      << ", candidates " << t.candidates_ms << ", clustering " << t.clustering_ms
+      << ", refinement " << t.refinement_ms << ", description " << t.description_ms << "\n";
+  out.unsetf(std::ios::floatfield);
+}
+
+void writeJson(std::ostream& out, const Result& result) {
+  out << "{\n  \"planes\": [";
+  for (std::size_t k = 0; k < result.planes.size(); ++k) {
+    const Plane& p = result.planes[k];
+    out << (k ? "," : "") << "\n    {\"id\": " << p.id << ", \"height\": " << number(p.height)
+        << ", \"bbox\": [" << number(p.bbox[0]) << ", " << number(p.bbox[1]) << ", "
+        << number(p.bbox[2]) << ", " << number(p.bbox[3]) << "]"
+        << ", \"centroid\": " << vec3(p.centroid) << ", \"normal\": " << vec3(p.normal)
+        << ", \"tilt\": " << number(p.tilt) << ", \"area\": " << number(p.area)
+        << ", \"num_points\": " << p.num_points << ", \"num_voxels\": " << p.num_voxels
+        << ", \"hull\": [";
+    for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
+    out << "]}";
+  }
+  const StageTimings& t = result.timings;
+  out << "\n  ],\n  \"stats\": {\"input_points\": " << result.input_points
+      << ", \"finite_points\": " << result.finite_points << ", \"voxels\": " << result.voxels
+      << ", \"candidates\": " << result.candidates << ", \"clusters\": " << result.clusters
+      << ", \"rejected_by_refinement\": " << result.rejected_by_refinement
+      << ", \"rejected_by_band_or_area\": " << result.rejected_by_band_or_area << "},\n"
+      << "  \"warnings\": [";
+  for (std::size_t w = 0; w < result.warnings.size(); ++w) {
+    out << (w ? ", " : "") << "\"" << escape(result.warnings[w]) << "\"";
+  }
+  out << "],\n  \"timings_ms\": {\"alignment\": " << number(t.alignment_ms)
+      << ", \"grid_filter\": " << number(t.grid_filter_ms) << ", \"normals\": "
+      << number(t.normals_ms) << ", \"candidates\": " << number(t.candidates_ms)
+      << ", \"clustering\": " << number(t.clustering_ms) << ", \"refinement\": "
+      << number(t.refinement_ms) << ", \"description\": " << number(t.description_ms)
+      << ", \"total\": " << number(t.total_ms) << "}\n}\n";
+}
+
+}  // namespace tools
+}  // namespace hope

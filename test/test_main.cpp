@@ -1,0 +1,7 @@
+// catkin links gtest but not gtest_main.
+#include <gtest/gtest.h>
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

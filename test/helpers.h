@@ -24,7 +24,8 @@ inline void addSheet(LabeledCloud& cloud, double x0, double y0, double x1, doubl
   synthetic::sampleRectangle(rect, spacing, label, cloud, noise, seed);
 }
 
-inline Result extractZUp(const pcl::PointCloud<pcl::PointXYZ>& cloud, const Params& params = Params()) {
+inline Result extractZUp(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                         const Params& params = Params()) {
   Extractor extractor(params);
   return extractor.extract(cloud, Orientation::identity());
 }

@@ -1,1 +1,203 @@
+// Each stage on its own, with hand-checkable inputs.
+#include <cmath>
+#include <limits>
+
 #include "helpers.h"
+#include "hope/grid_filter.h"
+#include "hope/horizontal_candidates.h"
+#include "hope/normal_estimation.h"
+#include "hope/pca_refinement.h"
+#include "hope/plane_description.h"
+#include "hope/z_clustering.h"
+
+namespace hope {
+namespace test {
+
+namespace {
+
+std::vector<Eigen::Vector3f> points(std::initializer_list<Eigen::Vector3f> list) { return list; }
+
+std::vector<Eigen::Vector3f> sheet(double x0, double y0, double x1, double y1, double z) {
+  LabeledCloud c;
+  addSheet(c, x0, y0, x1, y1, z, 0.01, 0);
+  std::vector<Eigen::Vector3f> out;
+  for (const auto& p : c.cloud) out.emplace_back(p.x, p.y, p.z);
+  return out;
+}
+
+}  // namespace
+
+TEST(GridFilter, GroupsPointsByAnisotropicVoxelAndRemembersEachPointsVoxel) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const auto pts = points({{0.01f, 0.01f, 0.001f},
+                           {0.03f, 0.02f, 0.005f},  // same voxel (0.05 × 0.05 × 0.02)
+                           {0.01f, 0.01f, 0.031f},  // one z cell up
+                           {0.07f, 0.01f, 0.001f},  // next column in x
+                           {nan, 0.f, 0.f}});
+  VoxelGrid grid;
+  grid.build(pts, 0.05, 0.02);
+  ASSERT_EQ(grid.numVoxels(), 3u);
+  const auto& voxel_of = grid.pointVoxel();
+  EXPECT_EQ(voxel_of[0], voxel_of[1]);
+  EXPECT_NE(voxel_of[0], voxel_of[2]);
+  EXPECT_NE(voxel_of[0], voxel_of[3]);
+  EXPECT_EQ(voxel_of[4], -1);
+  const auto v = static_cast<std::size_t>(voxel_of[0]);
+  EXPECT_EQ(grid.numPointsIn(v), 2u);
+  EXPECT_NEAR(grid.centroid(v).x(), 0.02f, 1e-6);
+  EXPECT_NEAR(grid.centroid(v).z(), 0.003f, 1e-6);
+  // Column (0, 0) holds two voxels ordered by z cell.
+  const auto range = grid.columnVoxels(0, 0);
+  ASSERT_EQ(range.second - range.first, 2u);
+  EXPECT_LT(grid.cellZ(range.first), grid.cellZ(range.first + 1));
+  EXPECT_EQ(grid.columnVoxels(-1, 0).second, grid.columnVoxels(-1, 0).first);
+}
+
+TEST(GridFilter, SparseWideCloudsTakeTheHashPathWithTheSameResult) {
+  // Two clusters 3 km apart at 5 cm: 60 000 columns in x, far more cells than points.
+  auto pts = sheet(0, 0, 0.3, 0.3, 0.0);
+  auto far = sheet(3000, 0, 3000.3, 0.3, 0.0);
+  pts.insert(pts.end(), far.begin(), far.end());
+  VoxelGrid grid;
+  grid.build(pts, 0.05, 0.02);
+  std::size_t expected = 0;
+  for (const auto& part : {sheet(0, 0, 0.3, 0.3, 0.0)}) {
+    VoxelGrid g;
+    g.build(part, 0.05, 0.02);
+    expected = g.numVoxels();
+  }
+  EXPECT_EQ(grid.numVoxels(), 2 * expected);
+  for (std::size_t v = 0; v < grid.numVoxels(); ++v) {
+    const auto range = grid.columnVoxels(grid.cellX(v), grid.cellY(v));
+    EXPECT_LE(range.first, v);
+    EXPECT_GT(range.second, v);
+  }
+}
+
+TEST(GridFilter, ACloudSpanningMoreCellsThanSupportedIsAClearError) {
+  const auto pts = points({{0, 0, 0}, {1e6f, 0, 0}});
+  VoxelGrid grid;
+  try {
+    grid.build(pts, 0.05, 0.02);
+    FAIL() << "accepted a 1000 km cloud at 5 cm";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("along x"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Normals, FlatSheetGivesVerticalNormalsAndSlopesGiveTheirTilt) {
+  VoxelGrid grid;
+  grid.build(sheet(0, 0, 1, 1, 0.3), 0.05, 0.02);
+  std::vector<Eigen::Vector3f> normals;
+  estimateNormals(grid, 1.01, normals);
+  for (const auto& n : normals) {
+    ASSERT_TRUE(n.allFinite());
+    EXPECT_NEAR(n.z(), 1.0f, 1e-5);
+  }
+  // 0.3 rad slope about y.
+  std::vector<Eigen::Vector3f> slope;
+  for (const auto& p : sheet(0, 0, 1, 1, 0))
+    slope.emplace_back(p.x(), p.y(), std::tan(0.3f) * p.x());
+  grid.build(slope, 0.05, 0.02);
+  estimateNormals(grid, 1.01, normals);
+  int finite = 0;
+  for (const auto& n : normals) {
+    if (!n.allFinite()) continue;
+    ++finite;
+    EXPECT_NEAR(std::acos(n.z()), 0.3, 0.02);
+  }
+  EXPECT_GT(finite, static_cast<int>(normals.size() * 9 / 10));
+}
+
+TEST(Normals, IsolatedVoxelsAndLinesHaveNoNormal) {
+  VoxelGrid grid;
+  std::vector<Eigen::Vector3f> line;
+  for (int i = 0; i < 20; ++i) line.emplace_back(0.05f * i + 0.02f, 0.02f, 0.0f);
+  line.emplace_back(5.0f, 5.0f, 0.0f);
+  grid.build(line, 0.05, 0.02);
+  std::vector<Eigen::Vector3f> normals;
+  estimateNormals(grid, 1.01, normals);
+  for (const auto& n : normals) EXPECT_FALSE(n.allFinite());
+}
+
+TEST(HorizontalCandidates, Eq3BoundIsOneOverSqrtOnePlusTwoGammaSquared) {
+  const double gamma = 0.4;
+  const double bound = candidateNormalZBound(gamma);
+  EXPECT_NEAR(bound, 1.0 / std::sqrt(1.32), 1e-12);
+  const double just_in = std::acos(bound) - 0.01, just_out = std::acos(bound) + 0.01;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<Eigen::Vector3f> normals = {
+      {0, 0, 1},
+      {static_cast<float>(std::sin(just_in)), 0, static_cast<float>(std::cos(just_in))},
+      {static_cast<float>(std::sin(just_out)), 0, static_cast<float>(std::cos(just_out))},
+      {0, 0, -1},  // opposite orientation still counts (|n_z|)
+      {nan, nan, nan}};
+  std::vector<std::uint8_t> mask;
+  EXPECT_EQ(selectHorizontalCandidates(normals, gamma, mask), 3u);
+  EXPECT_EQ(mask, (std::vector<std::uint8_t>{1, 1, 0, 1, 0}));
+}
+
+TEST(ZClustering, JoinsAcrossColumnsOnlyBelowRzAndDropsTinyClusters) {
+  auto pts = sheet(0, 0, 0.5, 0.5, 0.0);
+  const auto step = sheet(0.51, 0, 1.0, 0.5, 0.025);  // 2.5 cm > r_z = 2 cm above
+  pts.insert(pts.end(), step.begin(), step.end());
+  pts.emplace_back(3.0f, 3.0f, 0.0f);  // a lone voxel
+  VoxelGrid grid;
+  grid.build(pts, 0.05, 0.02);
+  std::vector<std::uint8_t> all(grid.numVoxels(), 1);
+  const auto clusters = zClustering(grid, all, 0.02, 3);
+  ASSERT_EQ(clusters.size(), 2u);
+  EXPECT_EQ(clusters[0].size() + clusters[1].size(), grid.numVoxels() - 1);
+  // With r_z = 3 cm the step is joined.
+  EXPECT_EQ(zClustering(grid, all, 0.03, 3).size(), 1u);
+}
+
+TEST(PcaRefinement, FlatNormalsPassCurvedAndSlopedOnesFail) {
+  const double gamma = 0.4;
+  std::vector<std::uint32_t> members;
+  std::vector<Eigen::Vector3f> normals;
+  auto reset = [&] {
+    members.clear();
+    normals.clear();
+  };
+  auto add = [&](double tilt, double azimuth) {
+    normals.emplace_back(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                         std::cos(tilt));
+    members.push_back(static_cast<std::uint32_t>(normals.size() - 1));
+  };
+  // Flat with noise: small tilts in every direction.
+  for (int i = 0; i < 40; ++i) add(0.03 * ((i * 7) % 5) / 4.0, i * 2.4);
+  EXPECT_TRUE(refineWithPCA(normals, members, gamma).horizontal);
+  // A uniform slope just above atan γ: Eq 10's first test.
+  reset();
+  for (int i = 0; i < 40; ++i) add(std::atan(gamma) + 0.02, 0.0);
+  RefinementVerdict slope = refineWithPCA(normals, members, gamma);
+  EXPECT_FALSE(slope.horizontal);
+  EXPECT_GT(slope.mean_tilt, std::atan(gamma));
+  // A ridge (tube top): normals tilt ±0.45 rad across one axis; mean vertical, groups apart.
+  reset();
+  for (int i = -20; i <= 20; ++i) add(std::fabs(i) * 0.45 / 20, i < 0 ? M_PI : 0.0);
+  RefinementVerdict ridge = refineWithPCA(normals, members, gamma);
+  EXPECT_LT(ridge.mean_tilt, 0.01);
+  EXPECT_FALSE(ridge.horizontal);
+  // Too few normals.
+  reset();
+  add(0, 0);
+  add(0, 0);
+  EXPECT_FALSE(refineWithPCA(normals, members, gamma).horizontal);
+}
+
+TEST(PlaneDescription, ConvexHullIsCounterClockwiseAndDropsInteriorPoints) {
+  const auto hull = convexHull2D({{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}, {0.2, 0.7}, {1, 0}});
+  ASSERT_EQ(hull.size(), 4u);
+  double twice_area = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const auto& a = hull[i];
+    const auto& b = hull[(i + 1) % hull.size()];
+    twice_area += a.x() * b.y() - b.x() * a.y();
+  }
+  EXPECT_NEAR(twice_area, 2.0, 1e-12);  // positive: counter-clockwise
+}
+
+}  // namespace test
+}  // namespace hope

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include <opencv2/core.hpp>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <opencv2/core.hpp>
 
 namespace hope {
 

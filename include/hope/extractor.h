@@ -8,8 +8,8 @@
 
 #include <Eigen/Geometry>
 
-#include "hope/grid_filter.h"
 #include "hope/gravity_alignment.h"
+#include "hope/grid_filter.h"
 #include "hope/params.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"

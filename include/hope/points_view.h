@@ -11,9 +11,9 @@
 namespace hope {
 
 struct PointsView {
-  const std::uint8_t* data = nullptr;  // first byte of the first point
-  std::size_t count = 0;               // number of points (width · height)
-  std::size_t stride = 0;              // bytes from one point to the next
+  const std::uint8_t* data = nullptr;                    // first byte of the first point
+  std::size_t count = 0;                                 // number of points (width · height)
+  std::size_t stride = 0;                                // bytes from one point to the next
   std::size_t x_offset = 0, y_offset = 4, z_offset = 8;  // byte offsets of float32 x, y, z
   std::uint32_t width = 0;   // organized: image columns; unorganized: count
   std::uint32_t height = 1;  // organized: image rows; unorganized: 1

@@ -94,8 +94,8 @@ std::string Orientation::describe() const {
   const Eigen::Quaterniond q(transform_.linear());
   const Eigen::Vector3d& p = transform_.translation();
   std::ostringstream s;
-  s << "t = (" << p.x() << ", " << p.y() << ", " << p.z() << "), q (x y z w) = (" << q.x()
-    << ", " << q.y() << ", " << q.z() << ", " << q.w() << ")";
+  s << "t = (" << p.x() << ", " << p.y() << ", " << p.z() << "), q (x y z w) = (" << q.x() << ", "
+    << q.y() << ", " << q.z() << ", " << q.w() << ")";
   return s.str();
 }
 

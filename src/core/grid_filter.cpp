@@ -81,9 +81,12 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
   const double ox = origin_.x(), oy = origin_.y(), oz = origin_.z();
   for (std::size_t k = 0; k < m; ++k) {
     const Eigen::Vector3f& p = aligned[finite_index_[k]];
-    const auto ix = std::min<std::uint64_t>(static_cast<std::uint64_t>((p.x() - ox) * inv_xy), nx_ - 1);
-    const auto iy = std::min<std::uint64_t>(static_cast<std::uint64_t>((p.y() - oy) * inv_xy), ny_ - 1);
-    const auto iz = std::min<std::uint64_t>(static_cast<std::uint64_t>((p.z() - oz) * inv_z), nz - 1);
+    const auto ix =
+        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.x() - ox) * inv_xy), nx_ - 1);
+    const auto iy =
+        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.y() - oy) * inv_xy), ny_ - 1);
+    const auto iz =
+        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.z() - oz) * inv_z), nz - 1);
     point_column_[k] = ix + nx_ * iy;
     point_iz_[k] = static_cast<std::uint32_t>(iz);
   }
@@ -173,7 +176,8 @@ void VoxelGrid::collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool 
     for (std::size_t v = 0; v < num_voxels;) {
       std::size_t end = v + 1;
       while (end < num_voxels && column_[end] == column_[v]) ++end;
-      sparse_columns_[column_[v]] = {static_cast<std::uint32_t>(v), static_cast<std::uint32_t>(end)};
+      sparse_columns_[column_[v]] = {static_cast<std::uint32_t>(v),
+                                     static_cast<std::uint32_t>(end)};
       v = end;
     }
   }

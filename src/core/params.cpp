@@ -19,8 +19,8 @@ constexpr double kMaxResolution = 10.0;
 void requireRange(const char* name, double value, double lo, double hi, const char* hint) {
   if (!std::isfinite(value) || value < lo || value > hi) {
     std::ostringstream msg;
-    msg << "parameter " << name << " = " << value << " is out of range [" << lo << ", " << hi
-        << "]" << hint;
+    msg << "parameter " << name << " = " << value << " is out of range [" << lo << ", " << hi << "]"
+        << hint;
     throw std::invalid_argument(msg.str());
   }
 }

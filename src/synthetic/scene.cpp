@@ -109,8 +109,9 @@ bool Sphere::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir
                        Hit& hit) const {
   const Eigen::Vector3d w = origin - center;
   double t;
-  if (!smallestRoot(direction.squaredNorm(), 2 * w.dot(direction), w.squaredNorm() - radius * radius,
-                    [](double) { return true; }, t)) {
+  if (!smallestRoot(
+          direction.squaredNorm(), 2 * w.dot(direction), w.squaredNorm() - radius * radius,
+          [](double) { return true; }, t)) {
     return false;
   }
   hit.t = t;

@@ -17,7 +17,8 @@
 
 namespace {
 
-const char* kUsage = R"(usage: hope_extract (--input FILE.pcd|.ply | --depth FILE.png [--rgb FILE.png]) [options]
+const char* kUsage =
+    R"(usage: hope_extract (--input FILE.pcd|.ply | --depth FILE.png [--rgb FILE.png]) [options]
 
 Finds the horizontal planes of one cloud (HoPE, Dong et al. 2018).
 
@@ -56,10 +57,10 @@ struct Options {
 };
 
 Options parse(int argc, char** argv) {
-  static const char* kValued[] = {"--input", "--depth", "--rgb", "--intrinsics", "--depth-scale",
-                                  "--pose", "--quaternion", "--rpy", "--gravity", "--r-xy",
-                                  "--r-z", "--min-height", "--max-height", "--min-area", "--json",
-                                  "--labels", "--overlay"};
+  static const char* kValued[] = {
+      "--input",      "--depth",    "--rgb",     "--intrinsics", "--depth-scale", "--pose",
+      "--quaternion", "--rpy",      "--gravity", "--r-xy",       "--r-z",         "--min-height",
+      "--max-height", "--min-area", "--json",    "--labels",     "--overlay"};
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -145,11 +146,13 @@ int run(int argc, char** argv) {
       k = {v[0], v[1], v[2], v[3]};
     }
     const auto rgb = o.values.count("--rgb") ? o.values.at("--rgb") : std::string();
-    input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, number(o, "--depth-scale", 5000));
+    input =
+        hope::tools::loadDepth(o.values.at("--depth"), rgb, k, number(o, "--depth-scale", 5000));
   }
 
   const hope::Result result = extractor.extract(input.cloud, pose);
-  for (const auto& warning : result.warnings) std::cerr << "hope_extract: warning: " << warning << "\n";
+  for (const auto& warning : result.warnings)
+    std::cerr << "hope_extract: warning: " << warning << "\n";
   if (!o.quiet) hope::tools::printTable(std::cout, result);
 
   if (o.values.count("--json")) {
@@ -166,8 +169,8 @@ int run(int argc, char** argv) {
     hope::tools::writeLabels(o.values.at("--labels"), input.cloud, labels);
   }
   if (o.values.count("--overlay")) {
-    const cv::Mat image = hope::tools::renderOverlay(input.cloud, input.has_color,
-                                                     extractor.alignedPoints(), result);
+    const cv::Mat image =
+        hope::tools::renderOverlay(input.cloud, input.has_color, extractor.alignedPoints(), result);
     if (!cv::imwrite(o.values.at("--overlay"), image)) {
       throw std::runtime_error("cannot write '" + o.values.at("--overlay") + "'");
     }

@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
     const RenderedFrame frame = scene.render(camera);
     cv::Mat depth16(frame.depth.size(), CV_16UC1);
     frame.depth.convertTo(depth16, CV_16UC1, 5000.0);  // TUM scale; saturates beyond 13 m
-    if (!cv::imwrite(out_dir + "/depth.png", depth16) || !cv::imwrite(out_dir + "/rgb.png", frame.bgr)) {
+    if (!cv::imwrite(out_dir + "/depth.png", depth16) ||
+        !cv::imwrite(out_dir + "/rgb.png", frame.bgr)) {
       throw std::runtime_error("cannot write images into '" + out_dir + "' (does it exist?)");
     }
     const Eigen::Quaterniond q(camera.pose.linear());

@@ -33,7 +33,8 @@ std::string planeText(const Plane& plane) {
 void drawLabel(cv::Mat& image, const std::string& text, cv::Point at, double scale) {
   int baseline = 0;
   const int thickness = std::max(1, static_cast<int>(std::lround(scale * 1.5)));
-  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
+  const cv::Size size =
+      cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
   cv::Point origin(at.x - size.width / 2, at.y + size.height / 2);
   origin.x = std::clamp(origin.x, 2, std::max(2, image.cols - size.width - 2));
   origin.y = std::clamp(origin.y, size.height + 2, std::max(size.height + 2, image.rows - 2));
@@ -88,7 +89,8 @@ cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_co
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     if (pixel_count[k] == 0) continue;
     const Eigen::Vector2d at = pixel_sum[k] / static_cast<double>(pixel_count[k]);
-    drawLabel(image, planeText(result.planes[k]), cv::Point(static_cast<int>(at.x()), static_cast<int>(at.y())), scale);
+    drawLabel(image, planeText(result.planes[k]),
+              cv::Point(static_cast<int>(at.x()), static_cast<int>(at.y())), scale);
   }
   return image;
 }

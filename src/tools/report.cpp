@@ -55,8 +55,8 @@ void printTable(std::ostream& out, const Result& result) {
       << " by height band / area)\n";
   out << std::fixed << std::setprecision(2) << "time " << t.total_ms << " ms: alignment "
       << t.alignment_ms << ", grid " << t.grid_filter_ms << ", normals " << t.normals_ms
-      << ", candidates " << t.candidates_ms << ", clustering " << t.clustering_ms
-      << ", refinement " << t.refinement_ms << ", description " << t.description_ms << "\n";
+      << ", candidates " << t.candidates_ms << ", clustering " << t.clustering_ms << ", refinement "
+      << t.refinement_ms << ", description " << t.description_ms << "\n";
   out.unsetf(std::ios::floatfield);
 }
 
@@ -85,11 +85,13 @@ void writeJson(std::ostream& out, const Result& result) {
     out << (w ? ", " : "") << "\"" << escape(result.warnings[w]) << "\"";
   }
   out << "],\n  \"timings_ms\": {\"alignment\": " << number(t.alignment_ms)
-      << ", \"grid_filter\": " << number(t.grid_filter_ms) << ", \"normals\": "
-      << number(t.normals_ms) << ", \"candidates\": " << number(t.candidates_ms)
-      << ", \"clustering\": " << number(t.clustering_ms) << ", \"refinement\": "
-      << number(t.refinement_ms) << ", \"description\": " << number(t.description_ms)
-      << ", \"total\": " << number(t.total_ms) << "}\n}\n";
+      << ", \"grid_filter\": " << number(t.grid_filter_ms)
+      << ", \"normals\": " << number(t.normals_ms)
+      << ", \"candidates\": " << number(t.candidates_ms)
+      << ", \"clustering\": " << number(t.clustering_ms)
+      << ", \"refinement\": " << number(t.refinement_ms)
+      << ", \"description\": " << number(t.description_ms) << ", \"total\": " << number(t.total_ms)
+      << "}\n}\n";
 }
 
 }  // namespace tools

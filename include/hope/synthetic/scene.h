@@ -8,10 +8,10 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Geometry>
-#include <opencv2/core.hpp>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include "hope/depth_image.h"
 
@@ -22,7 +22,7 @@ namespace synthetic {
 constexpr int kNoPlane = -1;
 
 struct Hit {
-  double t = 0;                                   // ray parameter (distance for unit rays)
+  double t = 0;                                       // ray parameter (distance for unit rays)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // outward unit normal
   int label = kNoPlane;
 };

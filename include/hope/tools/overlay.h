@@ -3,10 +3,10 @@
 
 #include <vector>
 
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
 
 #include "hope/extractor.h"
 

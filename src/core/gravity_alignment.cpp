@@ -1,6 +1,7 @@
 #include "hope/gravity_alignment.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -106,8 +107,7 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
   const float nan = std::numeric_limits<float>::quiet_NaN();
   aligned.resize(input.count);
   std::size_t finite = 0;
-  for (std::size_t i = 0; i < input.count; ++i) {
-    const Eigen::Vector3f p(input.x(i), input.y(i), input.z(i));
+  auto alignOne = [&](std::size_t i, const Eigen::Vector3f& p) {
     const Eigen::Vector3f q = r * p + t;
     // A finite but astronomically large input can overflow to infinity here: treat it like
     // a missing measurement rather than let it poison the grid bounds.
@@ -116,6 +116,19 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
       ++finite;
     } else {
       aligned[i] = Eigen::Vector3f(nan, nan, nan);
+    }
+  };
+  if (input.x_offset == 0 && input.y_offset == 4 && input.z_offset == 8) {
+    // The common layout (every PCL xyz type, most PointCloud2 messages): x, y, z packed at the
+    // start of each point, read as one vector instead of three separate loads.
+    for (std::size_t i = 0; i < input.count; ++i) {
+      float xyz[3];
+      std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));
+      alignOne(i, Eigen::Vector3f(xyz[0], xyz[1], xyz[2]));
+    }
+  } else {
+    for (std::size_t i = 0; i < input.count; ++i) {
+      alignOne(i, Eigen::Vector3f(input.x(i), input.y(i), input.z(i)));
     }
   }
   return finite;

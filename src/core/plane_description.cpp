@@ -42,7 +42,9 @@ Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& a
   plane.num_voxels = members.size();
   if (members.empty()) return plane;
 
-  // Offsets from a reference point keep the second moments well conditioned.
+  // Offsets from a reference point keep the second moments well conditioned. The normal is
+  // fitted to the voxel centroids weighted by their point counts: the same plane as a fit to
+  // every point when the points inside each voxel are flat, at a fraction of the cost.
   const Eigen::Vector3d ref = grid.centroid(members.front()).cast<double>();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
@@ -59,20 +61,36 @@ Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& a
     columns.push_back(grid.column(v));
     const std::uint32_t* begin = grid.pointsBegin(v);
     const std::uint32_t* end = grid.pointsEnd(v);
-    const std::uint32_t* extreme[4] = {begin, begin, begin, begin};  // min x, max x, min y, max y
-    for (const std::uint32_t* it = begin; it != end; ++it) {
+    // Indices of the min x, max x, min y, max y points, with their coordinates cached.
+    std::uint32_t extreme[4] = {*begin, *begin, *begin, *begin};
+    const Eigen::Vector3f& first = aligned[*begin];
+    float min_x = first.x(), max_x = first.x(), min_y = first.y(), max_y = first.y();
+    const double weight = static_cast<double>(end - begin);
+    const Eigen::Vector3d d = grid.centroid(v).cast<double>() - ref;
+    sum += weight * d;
+    outer.noalias() += weight * d * d.transpose();
+    for (const std::uint32_t* it = begin + 1; it != end; ++it) {
       const Eigen::Vector3f& p = aligned[*it];
-      const Eigen::Vector3d d = p.cast<double>() - ref;
-      sum += d;
-      outer.noalias() += d * d.transpose();
-      if (p.x() < aligned[*extreme[0]].x()) extreme[0] = it;
-      if (p.x() > aligned[*extreme[1]].x()) extreme[1] = it;
-      if (p.y() < aligned[*extreme[2]].y()) extreme[2] = it;
-      if (p.y() > aligned[*extreme[3]].y()) extreme[3] = it;
+      if (p.x() < min_x) {
+        min_x = p.x();
+        extreme[0] = *it;
+      }
+      if (p.x() > max_x) {
+        max_x = p.x();
+        extreme[1] = *it;
+      }
+      if (p.y() < min_y) {
+        min_y = p.y();
+        extreme[2] = *it;
+      }
+      if (p.y() > max_y) {
+        max_y = p.y();
+        extreme[3] = *it;
+      }
     }
     count += static_cast<std::size_t>(end - begin);
-    for (const std::uint32_t* e : extreme) {
-      const Eigen::Vector3f& p = aligned[*e];
+    for (const std::uint32_t e : extreme) {
+      const Eigen::Vector3f& p = aligned[e];
       hull_candidates.emplace_back(p.x(), p.y());
       lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y()));
       hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));

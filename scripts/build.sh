@@ -4,6 +4,6 @@ set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH  # Debian's python3 first (catkin needs it)
 root=$(cd "$(dirname "$0")/.." && pwd)
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release \
-  -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 "$@" >/dev/null
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 "$@" >/dev/null
 cmake --build "$root/build" -j2
 cmake --build "$root/build" -j2 --target tests  # catkin leaves test executables out of "all"

@@ -140,17 +140,9 @@ void VoxelGrid::collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool 
   point_begin_.clear();
   std::uint64_t current_column = std::numeric_limits<std::uint64_t>::max();
   std::uint32_t current_iz = std::numeric_limits<std::uint32_t>::max();
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  auto closeVoxel = [&](std::size_t end) {
-    if (point_begin_.empty()) return;
-    const double count = static_cast<double>(end - point_begin_.back());
-    centroid_.push_back((sum / count).cast<float>());
-    sum.setZero();
-  };
   for (std::size_t j = 0; j < m; ++j) {
     const std::uint32_t k = scratch_[j];
     if (point_column_[k] != current_column || point_iz_[k] != current_iz) {
-      closeVoxel(j);
       current_column = point_column_[k];
       current_iz = point_iz_[k];
       point_begin_.push_back(static_cast<std::uint32_t>(j));
@@ -160,10 +152,21 @@ void VoxelGrid::collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool 
     const std::uint32_t input_index = finite_index_[k];
     point_order_[j] = input_index;
     point_voxel_[input_index] = static_cast<std::int32_t>(column_.size() - 1);
-    sum += aligned[input_index].cast<double>();
   }
-  closeVoxel(m);
   point_begin_.push_back(static_cast<std::uint32_t>(m));
+
+  // Centroids in input order: the points are read sequentially and only the (much smaller)
+  // per-voxel sums are accessed at random.
+  std::vector<Eigen::Vector3d> sums(column_.size(), Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    const std::int32_t v = point_voxel_[i];
+    if (v >= 0) sums[v] += aligned[i].cast<double>();
+  }
+  centroid_.resize(column_.size());
+  for (std::size_t v = 0; v < column_.size(); ++v) {
+    centroid_[v] =
+        (sums[v] / static_cast<double>(point_begin_[v + 1] - point_begin_[v])).cast<float>();
+  }
 
   const std::size_t num_voxels = column_.size();
   if (dense_columns) {

@@ -66,12 +66,21 @@ const Input& largeCloud() {
 const Input& inputFor(int which) { return which == 0 ? tumFrame() : largeCloud(); }
 const char* kInputNames[] = {"TUM_fr1_desk_640x480", "Room_6M_unorganized"};
 
-void BM_Hope(benchmark::State& state) {
+// The input selected by the benchmark's argument, or nullptr (and the benchmark marked
+// skipped, with the reason) when it is unavailable.
+const Input* inputOrSkip(benchmark::State& state) {
   const Input& in = inputFor(static_cast<int>(state.range(0)));
   if (!in.error.empty()) {
     state.SkipWithError(in.error.c_str());
-    return;
+    return nullptr;
   }
+  return &in;
+}
+
+void BM_Hope(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
   hope::Extractor extractor;  // r_xy 0.05, r_z 0.02
   hope::StageTimings sum;
   std::size_t planes = 0, voxels = 0;
@@ -104,17 +113,27 @@ void BM_Hope(benchmark::State& state) {
 }
 BENCHMARK(BM_Hope)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// PCL's VoxelGrid with the same anisotropic leaf, on the already aligned cloud.
-void BM_PclVoxelGrid(benchmark::State& state) {
-  const Input& in = inputFor(static_cast<int>(state.range(0)));
-  if (!in.error.empty()) {
-    state.SkipWithError(in.error.c_str());
-    return;
-  }
+// The input transformed into the reference frame and voxelized by PCL with hope's leaf: the
+// starting point of each reference stage.
+pcl::PointCloud<pcl::PointXYZ>::Ptr alignedForPcl(const Input& in) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr aligned(new pcl::PointCloud<pcl::PointXYZ>);
   pcl::transformPointCloud(*in.cloud, *aligned, in.pose.sensorToReference().cast<float>().matrix());
+  return aligned;
+}
+
+pcl::VoxelGrid<pcl::PointXYZ> pclGrid() {
   pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setLeafSize(0.05f, 0.05f, 0.02f);
+  return grid;
+}
+
+// PCL's VoxelGrid with the same anisotropic leaf, on the already aligned cloud.
+void BM_PclVoxelGrid(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  const pcl::PointCloud<pcl::PointXYZ>::Ptr aligned = alignedForPcl(in);
+  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid();
   pcl::PointCloud<pcl::PointXYZ> out;
   for (auto _ : state) {
     grid.setInputCloud(aligned);
@@ -129,15 +148,11 @@ BENCHMARK(BM_PclVoxelGrid)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRe
 // PCL's NormalEstimation (k-d tree radius search, δ·r_xy) on the voxel centroids: what the
 // paper's implementation runs for its normals stage.
 void BM_PclNormals(benchmark::State& state) {
-  const Input& in = inputFor(static_cast<int>(state.range(0)));
-  if (!in.error.empty()) {
-    state.SkipWithError(in.error.c_str());
-    return;
-  }
-  pcl::PointCloud<pcl::PointXYZ>::Ptr aligned(new pcl::PointCloud<pcl::PointXYZ>);
-  pcl::transformPointCloud(*in.cloud, *aligned, in.pose.sensorToReference().cast<float>().matrix());
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setLeafSize(0.05f, 0.05f, 0.02f);
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  const pcl::PointCloud<pcl::PointXYZ>::Ptr aligned = alignedForPcl(in);
+  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid();
   grid.setInputCloud(aligned);
   pcl::PointCloud<pcl::PointXYZ>::Ptr voxels(new pcl::PointCloud<pcl::PointXYZ>);
   grid.filter(*voxels);

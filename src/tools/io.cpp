@@ -29,6 +29,23 @@ const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob, const std::
   return nullptr;
 }
 
+// The same points, uniformly grey, keeping the organized shape: inputs without colour.
+pcl::PointCloud<pcl::PointXYZRGB> withGreyColor(const pcl::PointCloud<pcl::PointXYZ>& xyz) {
+  pcl::PointCloud<pcl::PointXYZRGB> out;
+  out.resize(xyz.size());
+  for (std::size_t i = 0; i < xyz.size(); ++i) {
+    pcl::PointXYZRGB& p = out[i];
+    p.x = xyz[i].x;
+    p.y = xyz[i].y;
+    p.z = xyz[i].z;
+    p.r = p.g = p.b = 160;
+  }
+  out.width = xyz.width;
+  out.height = xyz.height;
+  out.is_dense = xyz.is_dense;
+  return out;
+}
+
 void requireReadable(const std::string& path) {
   std::ifstream probe(path);
   if (!probe) throw std::runtime_error("cannot open '" + path + "' (missing or unreadable)");
@@ -66,17 +83,7 @@ InputCloud loadCloud(const std::string& path) {
   } else {
     pcl::PointCloud<pcl::PointXYZ> xyz;
     pcl::fromPCLPointCloud2(blob, xyz);
-    input.cloud.resize(xyz.size());
-    for (std::size_t i = 0; i < xyz.size(); ++i) {
-      pcl::PointXYZRGB& p = input.cloud[i];
-      p.x = xyz[i].x;
-      p.y = xyz[i].y;
-      p.z = xyz[i].z;
-      p.r = p.g = p.b = 160;
-    }
-    input.cloud.width = xyz.width;
-    input.cloud.height = xyz.height;
-    input.cloud.is_dense = xyz.is_dense;
+    input.cloud = withGreyColor(xyz);
   }
   return input;
 }
@@ -94,18 +101,7 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
     input.cloud = depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
     input.has_color = true;
   } else {
-    const auto xyz = depthToCloud(depth, intrinsics, depth_scale);
-    input.cloud.resize(xyz.size());
-    for (std::size_t i = 0; i < xyz.size(); ++i) {
-      pcl::PointXYZRGB& p = input.cloud[i];
-      p.x = xyz[i].x;
-      p.y = xyz[i].y;
-      p.z = xyz[i].z;
-      p.r = p.g = p.b = 160;
-    }
-    input.cloud.width = xyz.width;
-    input.cloud.height = xyz.height;
-    input.cloud.is_dense = false;
+    input.cloud = withGreyColor(depthToCloud(depth, intrinsics, depth_scale));
   }
   return input;
 }

@@ -31,6 +31,15 @@ struct Plane {
   // The two angles of the refinement test (Eq 10), for diagnostics.
   double mean_normal_tilt = 0.0;
   double group_angle = 0.0;
+
+  // Set by the PlaneTracker (plane_tracker.h); a single extraction leaves the defaults.
+  // Frames in which this id has been seen, this one included.
+  int age = 1;
+  // Stamp (seconds) of the last frame this id was seen in: the current frame for a plane in
+  // the output, earlier for a remembered lost plane.
+  double last_seen = 0.0;
+  // The id this plane split off in this frame, or -1.
+  int split_from = -1;
 };
 
 }  // namespace hope

@@ -1,0 +1,331 @@
+#include "hope/plane_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "hope/optimal_assignment.h"
+#include "hope/plane_matching.h"
+
+namespace hope {
+
+TrackingMode trackingModeFromString(const std::string& name) {
+  if (name == "paper") return TrackingMode::kPaper;
+  if (name == "improved") return TrackingMode::kImproved;
+  throw std::invalid_argument("unknown tracking mode '" + name + "' (use paper or improved)");
+}
+
+const char* toString(TrackingMode mode) {
+  return mode == TrackingMode::kPaper ? "paper" : "improved";
+}
+
+const char* toString(TrackEvent::Kind kind) {
+  switch (kind) {
+    case TrackEvent::Kind::kNew:
+      return "new";
+    case TrackEvent::Kind::kLost:
+      return "lost";
+    case TrackEvent::Kind::kRecovered:
+      return "recovered";
+    case TrackEvent::Kind::kMerged:
+      return "merged";
+    case TrackEvent::Kind::kSplit:
+      return "split";
+    case TrackEvent::Kind::kEnded:
+      return "ended";
+  }
+  return "?";
+}
+
+void validate(const TrackerOptions& o) {
+  auto require = [](const char* name, double value, double lo, double hi) {
+    if (!std::isfinite(value) || value < lo || value > hi) {
+      std::ostringstream msg;
+      msg << "tracker option " << name << " = " << value << " is out of range [" << lo << ", " << hi
+          << "]";
+      throw std::invalid_argument(msg.str());
+    }
+  };
+  require("max_height_change (m)", o.max_height_change, 1e-4, 100.0);
+  require("max_xy_gap (m)", o.max_xy_gap, 0.0, 1000.0);
+  require("height_scale (m)", o.height_scale, 1e-4, 100.0);
+  require("xy_scale (m)", o.xy_scale, 1e-4, 1000.0);
+  require("max_match_cost", o.max_match_cost, 1e-3, 1e6);
+  require("max_missed_frames", o.max_missed_frames, 0, 1e6);
+  require("merge_split_overlap", o.merge_split_overlap, 0.0, 1.0);
+}
+
+namespace {
+
+// Bounding boxes thinner than a millimetre still have an area, so overlap shares stay finite.
+constexpr double kMinBoxSide = 1e-3;
+// Pairs beyond a gate get this cost, which no pairing is worth.
+constexpr double kForbidden = 1e9;
+
+double boxArea(const std::array<double, 4>& b) {
+  return std::max(b[2] - b[0], kMinBoxSide) * std::max(b[3] - b[1], kMinBoxSide);
+}
+
+double intersectionArea(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  const double dx = std::min(a[2], b[2]) - std::max(a[0], b[0]);
+  const double dy = std::min(a[3], b[3]) - std::max(a[1], b[1]);
+  return std::max(dx, 0.0) * std::max(dy, 0.0);
+}
+
+// Share of box `a` that lies inside box `b`.
+double shareInside(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  return std::min(1.0, intersectionArea(a, b) / boxArea(a));
+}
+
+double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  const double gx = std::max({a[0] - b[2], b[0] - a[2], 0.0});
+  const double gy = std::max({a[1] - b[3], b[1] - a[3], 0.0});
+  return std::hypot(gx, gy);
+}
+
+// Parts of one surface (a split, a merge) lie at the same height within noise; a book on a
+// table, 5 cm above it, must not count as merged into the table when it is briefly hidden.
+double sameSurfaceHeight(const TrackerOptions& o) { return 0.5 * o.height_scale; }
+
+// Cost of continuing `before` (displaced by `shift`) with `now`: height change and xy gap in
+// units of their scales, plus two overlap terms of the bounding boxes: the share of the
+// smaller box outside the other (so a plane seen only in part still matches its whole) and
+// one minus the intersection over union (so among fragments at one height, like patches of a
+// noisy far floor, the big patch continues the big patch). A tiny bonus for age lets the
+// older id win exact ties. Pairs beyond the gates cost kForbidden.
+double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d& shift,
+                   const TrackerOptions& o) {
+  const std::array<double, 4> moved = {before.bbox[0] + shift.x(), before.bbox[1] + shift.y(),
+                                       before.bbox[2] + shift.x(), before.bbox[3] + shift.y()};
+  const double dz = std::fabs(now.height - before.height - shift.z());
+  const double gap = boxGap(moved, now.bbox);
+  if (dz > o.max_height_change || gap > o.max_xy_gap) return kForbidden;
+  const double area_before = boxArea(moved), area_now = boxArea(now.bbox);
+  const double common = intersectionArea(moved, now.bbox);
+  const double overlap = std::min(1.0, common / std::min(area_before, area_now));
+  const double iou = common / (area_before + area_now - common);
+  return std::pow(dz / o.height_scale, 2) + std::pow(gap / o.xy_scale, 2) + (1.0 - overlap) +
+         (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
+}
+
+template <class Track>
+Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks, const std::vector<Plane>& planes,
+                             const Eigen::Vector3d& shift, const TrackerOptions& o) {
+  Eigen::MatrixXd cost(tracks.size(), planes.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t)
+    for (std::size_t p = 0; p < planes.size(); ++p)
+      cost(t, p) = pairingCost(tracks[t].plane, planes[p], shift, o);
+  return cost;
+}
+
+double median(std::vector<double>& values) {
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// The median displacement (bbox centre in xy, height in z) of the planes paired with tracks
+// seen in the previous frame; false when fewer than 3 pairs make it unreliable.
+template <class Track>
+bool medianShift(const std::vector<Track>& tracks, const std::vector<Plane>& planes,
+                 const std::vector<int>& assigned, Eigen::Vector3d& shift) {
+  std::vector<double> dx, dy, dz;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (assigned[t] < 0 || tracks[t].missed > 0) continue;
+    const auto& a = tracks[t].plane.bbox;
+    const auto& b = planes[assigned[t]].bbox;
+    dx.push_back(0.5 * (b[0] + b[2] - a[0] - a[2]));
+    dy.push_back(0.5 * (b[1] + b[3] - a[1] - a[3]));
+    dz.push_back(planes[assigned[t]].height - tracks[t].plane.height);
+  }
+  if (dz.size() < 3) return false;
+  shift = Eigen::Vector3d(median(dx), median(dy), median(dz));
+  return true;
+}
+
+// The optimal assignment where leaving a track or a plane unpaired costs `unpaired` each, so a
+// pair is only made when it costs less than 2·unpaired (a plain assignment would pair as many
+// as it can, forcing poor pairs). Solved per connected component of the allowed pairs:
+// planes at different heights never compete, so components are small and the cubic cost of
+// the Hungarian method stays negligible with many planes.
+std::vector<int> assignWithinComponents(const Eigen::MatrixXd& cost, double unpaired) {
+  const int rows = static_cast<int>(cost.rows()), cols = static_cast<int>(cost.cols());
+  std::vector<int> parent(rows + cols);
+  for (int i = 0; i < rows + cols; ++i) parent[i] = i;
+  auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      if (cost(r, c) < 2 * unpaired) parent[root(r)] = root(rows + c);
+  std::vector<std::vector<int>> component_rows(rows + cols), component_cols(rows + cols);
+  for (int r = 0; r < rows; ++r) component_rows[root(r)].push_back(r);
+  for (int c = 0; c < cols; ++c) component_cols[root(rows + c)].push_back(c);
+  std::vector<int> assigned(rows, -1);
+  for (int k = 0; k < rows + cols; ++k) {
+    const auto& rs = component_rows[k];
+    const auto& cs = component_cols[k];
+    if (rs.empty() || cs.empty()) continue;
+    const int n = static_cast<int>(rs.size()), m = static_cast<int>(cs.size());
+    // [pairs | track unpaired] over [plane unpaired | nothing].
+    Eigen::MatrixXd augmented = Eigen::MatrixXd::Constant(n + m, m + n, kForbidden);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) augmented(i, j) = std::min(cost(rs[i], cs[j]), kForbidden);
+    for (int i = 0; i < n; ++i) augmented(i, m + i) = unpaired;
+    for (int j = 0; j < m; ++j) augmented(n + j, j) = unpaired;
+    augmented.bottomRightCorner(m, n).setZero();
+    const std::vector<int> sub_assigned = solveAssignment(augmented);
+    for (int i = 0; i < n; ++i) {
+      const int j = sub_assigned[i];
+      if (j >= 0 && j < m && augmented(i, j) < 2 * unpaired) assigned[rs[i]] = cs[j];
+    }
+  }
+  return assigned;
+}
+
+}  // namespace
+
+PlaneTracker::PlaneTracker(const TrackerOptions& options) : options_(options) {
+  validate(options_);
+}
+
+void PlaneTracker::reset() { tracks_.clear(); }
+
+std::vector<Plane> PlaneTracker::lostPlanes() const {
+  std::vector<Plane> lost;
+  for (const Track& t : tracks_)
+    if (t.missed > 0) lost.push_back(t.plane);
+  return lost;
+}
+
+std::vector<TrackEvent> PlaneTracker::update(std::vector<Plane>& planes, double stamp) {
+  return options_.mode == TrackingMode::kPaper ? updatePaper(planes, stamp)
+                                               : updateImproved(planes, stamp);
+}
+
+void PlaneTracker::startTrack(Plane& plane, double stamp, std::vector<TrackEvent>& events) {
+  plane.id = next_id_++;
+  plane.age = 1;
+  plane.last_seen = stamp;
+  events.push_back({TrackEvent::Kind::kNew, plane.id});
+}
+
+std::vector<TrackEvent> PlaneTracker::updatePaper(std::vector<Plane>& planes, double stamp) {
+  std::vector<TrackEvent> events;
+  std::vector<Plane> previous;
+  for (const Track& t : tracks_) previous.push_back(t.plane);
+  const std::vector<NearestNeighborMatch> matches = matchNearestNeighbors(previous, planes);
+  std::vector<char> continued(previous.size(), 0);
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    planes[j].split_from = -1;
+    const int i = matches[j].previous;
+    if (i < 0) {
+      startTrack(planes[j], stamp, events);
+      continue;
+    }
+    continued[i] = 1;
+    planes[j].id = previous[i].id;
+    planes[j].age = previous[i].age + 1;
+    planes[j].last_seen = stamp;
+  }
+  for (std::size_t i = 0; i < previous.size(); ++i) {
+    if (!continued[i]) events.push_back({TrackEvent::Kind::kEnded, previous[i].id});
+  }
+  tracks_.clear();
+  for (const Plane& p : planes) tracks_.push_back({p, 0});
+  return events;
+}
+
+std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes, double stamp) {
+  const TrackerOptions& o = options_;
+  std::vector<TrackEvent> events;
+  const int num_tracks = static_cast<int>(tracks_.size());
+  const int num_planes = static_cast<int>(planes.size());
+
+  // Two passes: the first pairs planes as they are; the median displacement of those pairs
+  // is the apparent motion of the whole scene (large when only gravity is known, so the
+  // reference frame moves with the camera), which the second pass removes before pairing.
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  Eigen::MatrixXd cost = pairingCosts(tracks_, planes, shift, o);
+  std::vector<int> assigned = assignWithinComponents(cost, 0.5 * o.max_match_cost);
+  if (medianShift(tracks_, planes, assigned, shift)) {
+    cost = pairingCosts(tracks_, planes, shift, o);
+    assigned = assignWithinComponents(cost, 0.5 * o.max_match_cost);
+  }
+
+  std::vector<int> track_of_plane(num_planes, -1);
+  for (int t = 0; t < num_tracks; ++t) {
+    if (assigned[t] >= 0) track_of_plane[assigned[t]] = t;
+  }
+  std::vector<char> matched(num_tracks, 0);
+  for (int p = 0; p < num_planes; ++p) {
+    Plane& plane = planes[p];
+    plane.split_from = -1;
+    const int t = track_of_plane[p];
+    if (t < 0) continue;
+    matched[t] = 1;
+    const Track& track = tracks_[t];
+    if (track.missed > 0)
+      events.push_back({TrackEvent::Kind::kRecovered, track.plane.id, track.missed});
+    plane.id = track.plane.id;
+    plane.age = track.plane.age + 1;
+    plane.last_seen = stamp;
+  }
+
+  // New planes; one lying mostly inside the box of a continued plane at about the same
+  // height is a part that split off it (the larger part kept the id through the assignment).
+  for (int p = 0; p < num_planes; ++p) {
+    if (track_of_plane[p] >= 0) continue;
+    startTrack(planes[p], stamp, events);
+    for (int t = 0; t < num_tracks; ++t) {
+      const Plane& before = tracks_[t].plane;
+      if (matched[t] && std::fabs(before.height - planes[p].height) <= sameSurfaceHeight(o) &&
+          shareInside(planes[p].bbox, before.bbox) >= o.merge_split_overlap) {
+        planes[p].split_from = before.id;
+        events.push_back({TrackEvent::Kind::kSplit, planes[p].id, before.id});
+        break;
+      }
+    }
+  }
+
+  // Planes not seen: merged into a current plane that now covers them, or lost (remembered
+  // for a while), or ended.
+  std::vector<Track> next;
+  next.reserve(num_tracks + num_planes);
+  for (int t = 0; t < num_tracks; ++t) {
+    if (matched[t]) continue;
+    Track track = tracks_[t];
+    int merged_into = -1;
+    if (track.missed == 0) {
+      for (const Plane& now : planes) {
+        if (now.id != track.plane.id &&
+            std::fabs(now.height - track.plane.height) <= sameSurfaceHeight(o) &&
+            shareInside(track.plane.bbox, now.bbox) >= o.merge_split_overlap) {
+          merged_into = now.id;
+          break;
+        }
+      }
+    }
+    if (merged_into >= 0) {
+      events.push_back({TrackEvent::Kind::kMerged, track.plane.id, merged_into});
+      continue;
+    }
+    // A remembered plane moves with the rest of the scene.
+    track.plane.height += shift.z();
+    track.plane.bbox = {track.plane.bbox[0] + shift.x(), track.plane.bbox[1] + shift.y(),
+                        track.plane.bbox[2] + shift.x(), track.plane.bbox[3] + shift.y()};
+    if (++track.missed > o.max_missed_frames) {
+      events.push_back({TrackEvent::Kind::kEnded, track.plane.id});
+      continue;
+    }
+    if (track.missed == 1) events.push_back({TrackEvent::Kind::kLost, track.plane.id});
+    next.push_back(std::move(track));
+  }
+  for (const Plane& p : planes) next.push_back({p, 0});
+  tracks_ = std::move(next);
+  return events;
+}
+
+}  // namespace hope

@@ -1,0 +1,383 @@
+// Plane identities across frames: the paper's NNPM (Eq 11–14), the improved tracker, the
+// optimal assignment and the identity scores.
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "helpers.h"
+#include "hope/evaluation/tracking_metrics.h"
+#include "hope/optimal_assignment.h"
+#include "hope/plane_matching.h"
+#include "hope/plane_tracker.h"
+#include "hope/synthetic/sequences.h"
+
+namespace hope {
+namespace {
+
+Plane makePlane(double height, double x0, double y0, double x1, double y1) {
+  Plane p;
+  p.height = height;
+  p.bbox = {x0, y0, x1, y1};
+  p.centroid = Eigen::Vector3d(0.5 * (x0 + x1), 0.5 * (y0 + y1), height);
+  return p;
+}
+
+std::vector<int> idsOf(const std::vector<Plane>& planes) {
+  std::vector<int> ids;
+  for (const auto& p : planes) ids.push_back(p.id);
+  return ids;
+}
+
+TrackerOptions mode(TrackingMode m) {
+  TrackerOptions o;
+  o.mode = m;
+  return o;
+}
+
+TEST(PlaneMatching, NormalizesJointlyAsEquations11To14) {
+  // z_mean over both frames: 1, 2 (previous) and 3, 6 (current): mean 3, population variance
+  // (4 + 1 + 0 + 9) / 4 = 3.5. x_min: 0, 0, 2, 2: mean 1, std 1. y_min all 5: no spread.
+  std::vector<PlaneFeatures> previous(2), current(2);
+  previous[0] << 1, 0, 5, 1, 7;
+  previous[1] << 2, 0, 5, 1, 8;
+  current[0] << 3, 2, 5, 3, 9;
+  current[1] << 6, 2, 5, 3, 10;
+  normalizeJointly(previous, current);
+  const double s = std::sqrt(3.5);
+  EXPECT_NEAR(previous[0][0], -2 / s, 1e-12);
+  EXPECT_NEAR(previous[1][0], -1 / s, 1e-12);
+  EXPECT_NEAR(current[0][0], 0.0, 1e-12);
+  EXPECT_NEAR(current[1][0], 3 / s, 1e-12);
+  EXPECT_NEAR(previous[0][1], -1.0, 1e-12);
+  EXPECT_NEAR(current[1][1], 1.0, 1e-12);
+  for (const auto* set : {&previous, &current}) {
+    for (const auto& f : *set) {
+      EXPECT_EQ(f[2], 0.0) << "a feature without spread must become 0, not NaN";
+      EXPECT_TRUE(f.allFinite());
+    }
+  }
+  // y_max: 7, 8, 9, 10 → mean 8.5, std sqrt(1.25).
+  EXPECT_NEAR(current[1][4], 1.5 / std::sqrt(1.25), 1e-12);
+}
+
+TEST(PlaneMatching, ClosestCurrentPlaneKeepsAContestedPreviousPlane) {
+  const std::vector<Plane> previous = {makePlane(0.0, 0, 0, 1, 1), makePlane(1.0, 0, 0, 1, 1)};
+  // Both current planes are nearest to previous[1]; the second is closer.
+  const std::vector<Plane> current = {makePlane(0.8, 0, 0, 1, 1), makePlane(0.95, 0, 0, 1, 1)};
+  const auto matches = matchNearestNeighbors(previous, current);
+  ASSERT_EQ(matches.size(), 2u);
+  EXPECT_EQ(matches[0].previous, -1);
+  EXPECT_EQ(matches[1].previous, 1);
+}
+
+TEST(PlaneMatching, SinglePlaneEachFrameMatchesDespiteZeroSpread) {
+  // One plane per frame, identical: every feature has zero spread.
+  const auto matches =
+      matchNearestNeighbors({makePlane(0.7, 0, 0, 1, 1)}, {makePlane(0.7, 0, 0, 1, 1)});
+  ASSERT_EQ(matches.size(), 1u);
+  EXPECT_EQ(matches[0].previous, 0);
+  EXPECT_EQ(matches[0].distance, 0.0);
+}
+
+TEST(OptimalAssignment, FindsTheMinimumTotalCost) {
+  Eigen::MatrixXd cost(3, 3);
+  // Greedy on the smallest entry (1 at 0,0) would give 1 + 5 + 9 = 15; the optimum is 2+2+2.
+  cost << 1, 2, 9, 2, 5, 9, 9, 9, 2;
+  cost(0, 1) = 2;
+  cost(1, 0) = 2;
+  const auto a = solveAssignment(cost);
+  EXPECT_EQ(a, (std::vector<int>{1, 0, 2}));
+  Eigen::MatrixXd wide(2, 4);
+  wide << 5, 1, 7, 7, 1, 2, 7, 7;
+  EXPECT_EQ(solveAssignment(wide), (std::vector<int>{1, 0}));
+  EXPECT_EQ(solveAssignment(wide.transpose()), (std::vector<int>{1, 0, -1, -1}));
+  EXPECT_TRUE(solveAssignment(Eigen::MatrixXd(0, 3)).empty());
+}
+
+TEST(PlaneTracker, FirstFrameIdsFollowExtractionOrderAndPlanesKeepThem) {
+  for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
+    PlaneTracker tracker(mode(m));
+    std::vector<Plane> frame1 = {makePlane(0.0, -2, -2, 2, 2), makePlane(0.75, 0, 0, 1.2, 0.8),
+                                 makePlane(0.45, -1.5, 0, -1, 0.6)};
+    tracker.update(frame1, 0.0);
+    EXPECT_EQ(idsOf(frame1), (std::vector<int>{0, 1, 2})) << toString(m);
+    // Next frame: other extraction order, slightly shifted, one part of the floor unseen.
+    std::vector<Plane> frame2 = {makePlane(0.46, -1.48, 0.02, -1, 0.6),
+                                 makePlane(0.01, -2, -1.5, 1.9, 2),
+                                 makePlane(0.75, 0.05, 0, 1.2, 0.8)};
+    tracker.update(frame2, 0.033);
+    EXPECT_EQ(idsOf(frame2), (std::vector<int>{2, 0, 1})) << toString(m);
+    EXPECT_EQ(frame2[0].age, 2);
+    EXPECT_DOUBLE_EQ(frame2[0].last_seen, 0.033);
+  }
+}
+
+TEST(PlaneTracker, ImprovedModeGivesAPlaneHiddenForThreeFramesItsIdBack) {
+  const Plane table = makePlane(0.75, 0, 0, 1.2, 0.8), floor = makePlane(0, -2, -2, 2, 2),
+              shelf = makePlane(1.2, -1, 1, -0.5, 1.3);
+  PlaneTracker improved(mode(TrackingMode::kImproved)), paper(mode(TrackingMode::kPaper));
+  for (PlaneTracker* tracker : {&improved, &paper}) {
+    std::vector<Plane> all = {floor, table, shelf};
+    tracker->update(all, 0);
+    for (int hidden = 1; hidden <= 3; ++hidden) {
+      std::vector<Plane> without_table = {floor, shelf};
+      tracker->update(without_table, hidden);
+      EXPECT_EQ(idsOf(without_table), (std::vector<int>{0, 2}));
+    }
+    std::vector<Plane> back = {floor, table, shelf};
+    const auto events = tracker->update(back, 4);
+    if (tracker == &improved) {
+      EXPECT_EQ(idsOf(back), (std::vector<int>{0, 1, 2}));
+      ASSERT_FALSE(events.empty());
+      EXPECT_EQ(events[0].kind, TrackEvent::Kind::kRecovered);
+      EXPECT_EQ(events[0].other_id, 3) << "missed frames";
+      EXPECT_EQ(back[1].age, 2);
+    } else {
+      EXPECT_EQ(back[1].id, 3) << "the paper's NNPM has no memory: the table is re-numbered";
+    }
+  }
+}
+
+TEST(PlaneTracker, ImprovedModeRejectsAHeightJumpThatPaperModeAccepts) {
+  // The only plane jumps 30 cm: another surface. NNPM with one plane per frame matches
+  // anything (all features have zero or maximal normalized spread).
+  for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
+    PlaneTracker tracker(mode(m));
+    std::vector<Plane> a = {makePlane(0.45, 0, 0, 1, 1)};
+    tracker.update(a, 0);
+    std::vector<Plane> b = {makePlane(0.75, 0, 0, 1, 1)};
+    tracker.update(b, 1);
+    EXPECT_EQ(b[0].id, m == TrackingMode::kPaper ? 0 : 1) << toString(m);
+  }
+}
+
+TEST(PlaneTracker, MergeKeepsTheLargerPartsIdAndSplitNamesItsParent) {
+  PlaneTracker tracker;
+  std::vector<Plane> parts = {makePlane(0.75, 0, 0, 0.7, 1), makePlane(0.75, 0.8, 0, 1.2, 1)};
+  tracker.update(parts, 0);
+  std::vector<Plane> merged = {makePlane(0.75, 0, 0, 1.2, 1)};
+  auto events = tracker.update(merged, 1);
+  EXPECT_EQ(merged[0].id, 0) << "the part covering most of the merged plane keeps its id";
+  bool merge_reported = false;
+  for (const auto& e : events)
+    merge_reported |= e.kind == TrackEvent::Kind::kMerged && e.id == 1 && e.other_id == 0;
+  EXPECT_TRUE(merge_reported);
+  EXPECT_TRUE(tracker.lostPlanes().empty()) << "a merged plane is not remembered as lost";
+
+  std::vector<Plane> split = {makePlane(0.75, 0.7, 0, 1.2, 1), makePlane(0.75, 0, 0, 0.6, 1)};
+  events = tracker.update(split, 4);
+  // The larger part (the second, with the old box's corner) or the first keeps 0; the other
+  // part is new and names 0 as its parent.
+  const int keeper = split[0].id == 0 ? 0 : 1;
+  EXPECT_EQ(split[keeper].id, 0);
+  EXPECT_EQ(split[1 - keeper].split_from, 0);
+  EXPECT_GE(split[1 - keeper].id, 2) << "new ids are never reused";
+}
+
+TEST(PlaneTracker, NeverGivesOneIdToTwoPlanesNorReusesAnEndedId) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
+    PlaneTracker tracker(mode(m));
+    std::set<int> ended;
+    int max_id = -1;
+    for (int frame = 0; frame < 300; ++frame) {
+      const int highest_before = max_id;
+      std::vector<Plane> planes;
+      const int count = static_cast<int>(u(rng) * 12);
+      for (int k = 0; k < count; ++k) {
+        const double x = std::floor(u(rng) * 4), h = 0.1 * std::floor(u(rng) * 5);
+        planes.push_back(makePlane(h + 0.005 * u(rng), x, 0, x + 0.5 + 0.5 * u(rng), 1));
+      }
+      const auto events = tracker.update(planes, frame);
+      std::set<int> ids;
+      for (const auto& p : planes) {
+        EXPECT_TRUE(ids.insert(p.id).second) << "id " << p.id << " twice in frame " << frame;
+        EXPECT_EQ(ended.count(p.id), 0u) << "ended id " << p.id << " came back";
+        max_id = std::max(max_id, p.id);
+      }
+      for (const auto& e : events) {
+        if (e.kind == TrackEvent::Kind::kEnded || e.kind == TrackEvent::Kind::kMerged)
+          ended.insert(e.id);
+        if (e.kind == TrackEvent::Kind::kNew) {
+          EXPECT_GT(e.id, highest_before) << "a new id was reused";
+        }
+      }
+    }
+  }
+}
+
+TEST(PlaneTracker, RejectsBadOptions) {
+  TrackerOptions o;
+  o.max_height_change = -1;
+  EXPECT_THROW(PlaneTracker{o}, std::invalid_argument);
+  o = TrackerOptions();
+  o.height_scale = std::nan("");
+  EXPECT_THROW(PlaneTracker{o}, std::invalid_argument);
+  EXPECT_THROW(trackingModeFromString("best"), std::invalid_argument);
+  EXPECT_EQ(trackingModeFromString("paper"), TrackingMode::kPaper);
+}
+
+TEST(IdentityScorer, CountsAccuracySwitchesAndFragmentations) {
+  evaluation::IdentityScorer scorer;
+  const std::set<int> both = {0, 1};
+  scorer.addFrame({0, 1}, {0, 1}, {100, 50}, both);
+  scorer.addFrame({0, 1}, {0, 1}, {100, 50}, both);  // 2 right
+  scorer.addFrame({1, 0}, {0, 1}, {100, 50}, both);  // ids swapped: 2 wrong, 2 switches
+  scorer.addFrame({1}, {0}, {100}, both);            // 1 right; surface 1 lost while in view
+  scorer.addFrame({1, 7}, {0, 1}, {100, 50}, both);  // 1 right, new id 7 right (1 unseen)
+  // Surface 0 split in two: the old id on one part, a new id on the other: both right.
+  scorer.addFrame({1, 8, 7}, {0, 0, 1}, {60, 40, 50}, both);
+  const auto& s = scorer.scores();
+  EXPECT_EQ(s.frames, 6u);
+  EXPECT_EQ(s.pairs_checked, 2u + 2u + 1u + 2u + 3u);
+  EXPECT_EQ(s.pairs_correct, 2u + 0u + 1u + 2u + 3u);
+  EXPECT_EQ(s.id_switches, 2u + 1u) << "swap twice, then surface 1 came back as 7";
+  EXPECT_EQ(s.fragmentations, 1u);
+  EXPECT_EQ(s.duplicate_ids, 0u);
+  scorer.addFrame({3, 3}, {0, 1}, {1, 1}, both);
+  EXPECT_EQ(scorer.scores().duplicate_ids, 1u);
+}
+
+// Renders the tracking scene from two camera poses and returns the planes of each, with the
+// ground-truth surface of each plane.
+struct Seen {
+  std::vector<Plane> planes;
+  std::vector<int> truth;
+};
+
+Seen see(const synthetic::TrackingScene& scene, const synthetic::Camera& camera, bool full_pose) {
+  synthetic::SensorNoise noise;
+  const auto frame = scene.render(camera, Eigen::Vector2d(100, 100), noise);
+  Extractor extractor;  // default r_xy, r_z
+  const auto cloud = depthToCloud(frame.depth, camera.intrinsics, 1.0);
+  Orientation orientation = Orientation::fromTransform(camera.pose);
+  if (!full_pose) {
+    const Eigen::Vector3d up = camera.pose.linear().transpose() * Eigen::Vector3d::UnitZ();
+    orientation = Orientation::fromGravity(up.x(), up.y(), up.z());
+  }
+  const Result result = extractor.extract(cloud, orientation);
+  std::vector<int> point_truth(frame.labels.begin<std::int32_t>(),
+                               frame.labels.end<std::int32_t>());
+  // Only clean planes: the default r_z joins the pattern object's base with its lowest blocks
+  // 2 cm above, a plane that belongs to no single surface.
+  return {result.planes, evaluation::groundTruthOfPlanes(result, point_truth, 0.8)};
+}
+
+// The id of each surface's largest part, for surfaces seen substantially (300+ points).
+std::map<int, int> idOfSurface(const Seen& seen) {
+  std::map<int, std::size_t> largest;
+  std::map<int, int> id;
+  for (std::size_t k = 0; k < seen.planes.size(); ++k) {
+    const int surface = seen.truth[k];
+    if (surface >= 0 && seen.planes[k].num_points >= 300 &&
+        seen.planes[k].num_points > largest[surface]) {
+      largest[surface] = seen.planes[k].num_points;
+      id[surface] = seen.planes[k].id;
+    }
+  }
+  return id;
+}
+
+// Every surface seen in both frames keeps its id (that of its largest part).
+void expectIdsKept(const Seen& before, const Seen& after, const std::string& what) {
+  const auto id_before = idOfSurface(before);
+  int checked = 0;
+  for (const auto& [surface, id] : idOfSurface(after)) {
+    if (!id_before.count(surface)) continue;
+    EXPECT_EQ(id, id_before.at(surface))
+        << what << ": " << synthetic::TrackingScene::surfaceName(surface) << " (" << surface << ")";
+    ++checked;
+  }
+  EXPECT_GE(checked, 3) << what << ": too few surfaces seen twice to mean anything";
+}
+
+TEST(PlaneTrackerOnRenderedScenes, IdsSurviveACameraTranslationAndA20DegreeYaw) {
+  const synthetic::TrackingScene scene;
+  const auto start = synthetic::makeTrackingSequence("pan", 2, 640).frames[0].camera;
+  synthetic::Camera moved = start;
+  moved.pose.translation() += Eigen::Vector3d(0.3, 0.2, 0.0);
+  synthetic::Camera yawed = moved;
+  yawed.pose.linear() =
+      Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+      moved.pose.linear();
+  for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
+    PlaneTracker tracker(mode(m));
+    Seen a = see(scene, start, true), b = see(scene, moved, true), c = see(scene, yawed, true);
+    tracker.update(a.planes, 0);
+    tracker.update(b.planes, 1);
+    expectIdsKept(a, b, std::string(toString(m)) + ", translation by (0.3, 0.2) m");
+    tracker.update(c.planes, 2);
+    expectIdsKept(b, c, std::string(toString(m)) + ", 20° yaw");
+  }
+}
+
+TEST(PlaneTrackerOnRenderedScenes, ImprovedModeKeepsIdsThroughAYawWithGravityOnly) {
+  // Gravity only (an accelerometer): the reference frame turns with the camera, so every
+  // plane's box moves; 20° in 2° steps.
+  const synthetic::TrackingScene scene;
+  const auto start = synthetic::makeTrackingSequence("pan", 2, 640).frames[0].camera;
+  PlaneTracker tracker;
+  Seen first = see(scene, start, false);
+  tracker.update(first.planes, 0);
+  Seen last = first;
+  for (int step = 1; step <= 10; ++step) {
+    synthetic::Camera cam = start;
+    cam.pose.linear() =
+        Eigen::AngleAxisd(step * 2 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+        start.pose.linear();
+    Seen now = see(scene, cam, false);
+    tracker.update(now.planes, step);
+    expectIdsKept(last, now, "gravity only, yaw step " + std::to_string(step));
+    last = now;
+  }
+}
+
+TEST(PatternObject, MatchesThePapersModelWhenPresent) {
+  const std::string path = test::sharedData("pattern_object/pattern_object.STL");
+  std::ifstream stl(path, std::ios::binary);
+  if (!stl) {
+    GTEST_SKIP() << "no " << path << " (../shared/data absent): STL check skipped";
+  }
+  // Binary STL: 80-byte header, triangle count, then per triangle normal, 3 vertices, 2 bytes.
+  stl.ignore(80);
+  std::uint32_t count = 0;
+  stl.read(reinterpret_cast<char*>(&count), 4);
+  ASSERT_GT(count, 0u);
+  std::map<int, double> stl_area_by_height_mm;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    float v[12];
+    std::uint16_t attribute;
+    stl.read(reinterpret_cast<char*>(v), sizeof(v));
+    stl.read(reinterpret_cast<char*>(&attribute), 2);
+    ASSERT_TRUE(stl) << "truncated STL";
+    if (v[2] < 0.99f) continue;  // only upward faces
+    const Eigen::Vector3d a(v[3], v[4], v[5]), b(v[6], v[7], v[8]), c(v[9], v[10], v[11]);
+    stl_area_by_height_mm[static_cast<int>(std::lround(a.z() * 1000))] +=
+        0.5 * (b - a).cross(c - a).norm();
+  }
+  // The generator's upward faces, by height, from a dense scan from above.
+  synthetic::Scene scene;
+  synthetic::addPatternObject(scene, Eigen::Isometry3d::Identity(), 0);
+  const double step = 0.002;
+  const auto scan = scene.scanFromAbove(step / 2, step / 2, 0.96 - step / 2, 0.96 - step / 2, step);
+  std::map<int, double> generated_area_by_height_mm;
+  std::set<int> labels;
+  for (std::size_t i = 0; i < scan.cloud.size(); ++i) {
+    generated_area_by_height_mm[static_cast<int>(std::lround(scan.cloud[i].z * 1000))] +=
+        step * step;
+    labels.insert(scan.labels[i]);
+  }
+  EXPECT_EQ(labels.size(), static_cast<std::size_t>(synthetic::kPatternObjectFaces));
+  ASSERT_EQ(stl_area_by_height_mm.size(), generated_area_by_height_mm.size());
+  for (const auto& [height_mm, area] : stl_area_by_height_mm) {
+    EXPECT_NEAR(generated_area_by_height_mm[height_mm], area, 0.002)
+        << "upward area at " << height_mm << " mm";
+  }
+}
+
+}  // namespace
+}  // namespace hope

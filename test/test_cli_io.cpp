@@ -10,50 +10,13 @@
 #include <pcl/io/pcd_io.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "cli_helpers.h"
 #include "helpers.h"
 #include "hope/tools/io.h"
 #include "hope/tools/overlay.h"
 
 namespace hope {
 namespace test {
-
-namespace {
-
-struct CliRun {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-CliRun run(const std::string& args) {
-  const std::string cmd = std::string(HOPE_EXTRACT_BIN) + " " + args + " 2>&1";
-  CliRun r{-1, ""};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof(buffer), pipe)) r.output += buffer;
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    char tmpl[] = "/tmp/hope_cli_XXXXXX";
-    dir_ = mkdtemp(tmpl);
-  }
-  void TearDown() override { std::system(("rm -rf " + dir_).c_str()); }
-  std::string dir_;
-};
-
-}  // namespace
 
 TEST(Tools, VocColorTableMatchesPascal) {
   // BGR of VOC entries 1 (128,0,0), 2 (0,128,0), 3 (128,128,0), 15 (192,128,128).

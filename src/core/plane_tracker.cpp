@@ -89,11 +89,13 @@ double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
 double sameSurfaceHeight(const TrackerOptions& o) { return 0.5 * o.height_scale; }
 
 // Cost of continuing `before` (displaced by `shift`) with `now`: height change and xy gap in
-// units of their scales, plus two overlap terms of the bounding boxes: the share of the
-// smaller box outside the other (so a plane seen only in part still matches its whole) and
-// one minus the intersection over union (so among fragments at one height, like patches of a
-// noisy far floor, the big patch continues the big patch). A tiny bonus for age lets the
-// older id win exact ties. Pairs beyond the gates cost kForbidden.
+// units of their scales, plus two overlap terms of the bounding boxes. One minus the
+// intersection over union, weighted close to the pairing limit: a fragment inside a big
+// plane's box (IoU near 0) must not be worth pairing with it, or the assignment would trade
+// the big plane's id to a fragment to pair more planes. The share of the smaller box outside
+// the other, so a plane seen only in part still prefers its whole over a neighbour. A tiny
+// bonus for age lets the older id win exact ties. Pairs beyond the gates cost kForbidden.
+constexpr double kIouWeight = 0.8;
 double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d& shift,
                    const TrackerOptions& o) {
   const std::array<double, 4> moved = {before.bbox[0] + shift.x(), before.bbox[1] + shift.y(),
@@ -106,7 +108,7 @@ double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d&
   const double overlap = std::min(1.0, common / std::min(area_before, area_now));
   const double iou = common / (area_before + area_now - common);
   return std::pow(dz / o.height_scale, 2) + std::pow(gap / o.xy_scale, 2) + (1.0 - overlap) +
-         (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
+         kIouWeight * o.max_match_cost * (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
 }
 
 template <class Track>
@@ -119,29 +121,49 @@ Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks, const std::vector
   return cost;
 }
 
-double median(std::vector<double>& values) {
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+// The weighted median of (value, weight) pairs.
+double weightedMedian(std::vector<std::pair<double, double>>& samples) {
+  std::sort(samples.begin(), samples.end());
+  double total = 0;
+  for (const auto& s : samples) total += s.second;
+  double running = 0;
+  for (const auto& s : samples) {
+    running += s.second;
+    if (running >= 0.5 * total) return s.first;
+  }
+  return samples.back().first;
 }
 
-// The median displacement (bbox centre in xy, height in z) of the planes paired with tracks
-// seen in the previous frame; false when fewer than 3 pairs make it unreliable.
+// The apparent motion of the scene: the median displacement (bbox centre in xy, height in z)
+// of the pairs with tracks seen in the previous frame, each weighted by its point count so
+// that big planes outvote flickering fragments; false when fewer than 3 pairs make it
+// unreliable.
 template <class Track>
 bool medianShift(const std::vector<Track>& tracks, const std::vector<Plane>& planes,
                  const std::vector<int>& assigned, Eigen::Vector3d& shift) {
-  std::vector<double> dx, dy, dz;
+  std::vector<std::pair<double, double>> dx, dy, dz;
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (assigned[t] < 0 || tracks[t].missed > 0) continue;
+    const Plane& now = planes[assigned[t]];
     const auto& a = tracks[t].plane.bbox;
-    const auto& b = planes[assigned[t]].bbox;
-    dx.push_back(0.5 * (b[0] + b[2] - a[0] - a[2]));
-    dy.push_back(0.5 * (b[1] + b[3] - a[1] - a[3]));
-    dz.push_back(planes[assigned[t]].height - tracks[t].plane.height);
+    const auto& b = now.bbox;
+    const double weight = static_cast<double>(std::max<std::size_t>(now.num_points, 1));
+    dx.emplace_back(0.5 * (b[0] + b[2] - a[0] - a[2]), weight);
+    dy.emplace_back(0.5 * (b[1] + b[3] - a[1] - a[3]), weight);
+    dz.emplace_back(now.height - tracks[t].plane.height, weight);
   }
   if (dz.size() < 3) return false;
-  shift = Eigen::Vector3d(median(dx), median(dy), median(dz));
+  shift = Eigen::Vector3d(weightedMedian(dx), weightedMedian(dy), weightedMedian(dz));
   return true;
+}
+
+// Total cost of an assignment: its pairs plus `unpaired` for every track and plane left out.
+double totalCost(const Eigen::MatrixXd& cost, const std::vector<int>& assigned, double unpaired) {
+  double total = unpaired * static_cast<double>(cost.rows() + cost.cols());
+  for (std::size_t t = 0; t < assigned.size(); ++t) {
+    if (assigned[t] >= 0) total += cost(t, assigned[t]) - 2 * unpaired;
+  }
+  return total;
 }
 
 // The optimal assignment where leaving a track or a plane unpaired costs `unpaired` each, so a
@@ -247,12 +269,20 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
   // Two passes: the first pairs planes as they are; the median displacement of those pairs
   // is the apparent motion of the whole scene (large when only gravity is known, so the
   // reference frame moves with the camera), which the second pass removes before pairing.
+  // The shift is kept only when it explains the frame better than no shift.
+  const double unpaired = 0.5 * o.max_match_cost;
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  Eigen::MatrixXd cost = pairingCosts(tracks_, planes, shift, o);
-  std::vector<int> assigned = assignWithinComponents(cost, 0.5 * o.max_match_cost);
-  if (medianShift(tracks_, planes, assigned, shift)) {
-    cost = pairingCosts(tracks_, planes, shift, o);
-    assigned = assignWithinComponents(cost, 0.5 * o.max_match_cost);
+  std::vector<int> assigned =
+      assignWithinComponents(pairingCosts(tracks_, planes, shift, o), unpaired);
+  Eigen::Vector3d motion;
+  if (medianShift(tracks_, planes, assigned, motion)) {
+    const Eigen::MatrixXd unshifted = pairingCosts(tracks_, planes, shift, o);
+    const Eigen::MatrixXd shifted = pairingCosts(tracks_, planes, motion, o);
+    std::vector<int> reassigned = assignWithinComponents(shifted, unpaired);
+    if (totalCost(shifted, reassigned, unpaired) < totalCost(unshifted, assigned, unpaired)) {
+      assigned = std::move(reassigned);
+      shift = motion;
+    }
   }
 
   std::vector<int> track_of_plane(num_planes, -1);

@@ -130,7 +130,9 @@ TrackingSequence makeTrackingSequence(const std::string& name, int frames, int w
   std::normal_distribution<double> gauss(0.0, 1.0);
   const double deg = M_PI / 180.0;
   for (int f = 0; f < frames; ++f) {
-    const double s = double(f) / (frames - 1);  // 0 → 1 along the sequence
+    // Motions are defined over 3 s (90 frames); fewer frames show the start of it, more
+    // continue it, so the motion per frame never depends on the length.
+    const double s = f / 90.0;
     const double phase = 2.0 * M_PI * s;
     TrackingFrame frame;
     frame.stamp = f / 30.0;

@@ -1,9 +1,15 @@
 // hope_extract: horizontal planes of one point cloud or depth image, from the command line.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,16 +17,20 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/extractor.h"
+#include "hope/plane_tracker.h"
 #include "hope/tools/io.h"
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
+#include "hope/tools/sequence.h"
 
 namespace {
 
 const char* kUsage =
     R"(usage: hope_extract (--input FILE.pcd|.ply | --depth FILE.png [--rgb FILE.png]) [options]
+       hope_extract --sequence DIR [--groundtruth FILE | --accelerometer FILE] [options]
 
-Finds the horizontal planes of one cloud (HoPE, Dong et al. 2018).
+Finds the horizontal planes of one cloud (HoPE, Dong et al. 2018), or of every frame of a
+sequence, with plane ids kept across frames.
 
 input
   --input FILE           point cloud, .pcd or .ply, fields x y z in metres (rgb optional)
@@ -35,6 +45,20 @@ orientation of the sensor in the reference frame (z up); at most one, default: n
   --quaternion "qx qy qz qw"      rotation only (normalized; zero/NaN rejected)
   --rpy "roll pitch yaw"          radians, fixed axes x, y, z (R = Rz Ry Rx)
   --gravity "gx gy gz"            accelerometer at rest in the sensor frame (points UP)
+
+sequences
+  --sequence DIR         a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of
+                         .pcd files named by timestamp (or sorted by name)
+  --groundtruth FILE     TUM poses "timestamp tx ty tz qx qy qz qw" (default DIR/groundtruth.txt);
+                         each frame takes the pose nearest in time; heights are real heights
+  --accelerometer FILE   TUM accelerometer.txt "timestamp ax ay az" (m/s^2, optical frame,
+                         pointing up at rest): gravity only, heights relative to the camera
+  (or one fixed --pose/--quaternion/--rpy/--gravity for every frame)
+  --max-time-difference S  largest frame-to-orientation gap (default 0.02 s); frames
+                         without an orientation that close are skipped and counted
+  --tracking MODE        improved (default) or paper (NNPM of §2.5, Eq 11-14)
+  --jsonl FILE           one JSON line per frame: {"stamp", "file", "planes": [...], "events"}
+  --overlay-dir DIR      one overlay PNG per frame, named by stamp
 
 parameters
   --r-xy M               grid resolution in xy, metres (default 0.05)
@@ -57,10 +81,14 @@ struct Options {
 };
 
 Options parse(int argc, char** argv) {
-  static const char* kValued[] = {
-      "--input",      "--depth",    "--rgb",     "--intrinsics", "--depth-scale", "--pose",
-      "--quaternion", "--rpy",      "--gravity", "--r-xy",       "--r-z",         "--min-height",
-      "--max-height", "--min-area", "--json",    "--labels",     "--overlay"};
+  static const char* kValued[] = {"--input",       "--depth",         "--rgb",
+                                  "--intrinsics",  "--depth-scale",   "--pose",
+                                  "--quaternion",  "--rpy",           "--gravity",
+                                  "--r-xy",        "--r-z",           "--min-height",
+                                  "--max-height",  "--min-area",      "--json",
+                                  "--labels",      "--overlay",       "--sequence",
+                                  "--groundtruth", "--accelerometer", "--max-time-difference",
+                                  "--tracking",    "--jsonl",         "--overlay-dir"};
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -115,36 +143,190 @@ hope::Orientation orientation(const Options& o) {
   return hope::Orientation::identity();
 }
 
-int run(int argc, char** argv) {
-  const Options o = parse(argc, argv);
-  const bool has_input = o.values.count("--input") > 0;
-  const bool has_depth = o.values.count("--depth") > 0;
-  if (has_input == has_depth) {
-    throw std::invalid_argument("give exactly one of --input or --depth (see --help)");
+hope::PinholeIntrinsics intrinsics(const Options& o) {
+  hope::PinholeIntrinsics k = hope::PinholeIntrinsics::tumFreiburg1();
+  if (o.values.count("--intrinsics")) {
+    const auto v = hope::tools::parseNumbers(o.values.at("--intrinsics"), 4, "--intrinsics");
+    k = {v[0], v[1], v[2], v[3]};
   }
-  if (!has_depth && (o.values.count("--rgb") || o.values.count("--intrinsics") ||
-                     o.values.count("--depth-scale"))) {
-    throw std::invalid_argument("--rgb, --intrinsics and --depth-scale go with --depth");
-  }
+  return k;
+}
 
+hope::Params parameters(const Options& o) {
   hope::Params params;
   params.r_xy = number(o, "--r-xy", params.r_xy);
   params.r_z = number(o, "--r-z", params.r_z);
   params.min_height = number(o, "--min-height", params.min_height);
   params.max_height = number(o, "--max-height", params.max_height);
   params.min_area = number(o, "--min-area", params.min_area);
-  hope::Extractor extractor(params);  // validates before any file is read
+  return params;
+}
+
+// A progress bar with frames per second, only when stderr is a terminal.
+class Progress {
+ public:
+  Progress(std::size_t total, bool enabled) : total_(total), enabled_(enabled && isatty(2)) {}
+  void update(std::size_t done) {
+    if (!enabled_) return;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const int width = 30;
+    const int filled = static_cast<int>(width * done / std::max<std::size_t>(total_, 1));
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu frames, %.1f frames/s ",
+                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done,
+                 total_, seconds > 0 ? done / seconds : 0.0);
+    if (done == total_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  std::size_t total_;
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+int runSequence(const Options& o) {
+  for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay"}) {
+    if (o.values.count(single)) {
+      throw std::invalid_argument(std::string(single) +
+                                  " is for one frame; with --sequence use --jsonl / --overlay-dir");
+    }
+  }
+  hope::Extractor extractor(parameters(o));
+  hope::TrackerOptions tracker_options;
+  if (o.values.count("--tracking"))
+    tracker_options.mode = hope::trackingModeFromString(o.values.at("--tracking"));
+  hope::PlaneTracker tracker(tracker_options);
+
+  hope::tools::SequenceOptions seq;
+  seq.dir = o.values.at("--sequence");
+  seq.max_time_difference = number(o, "--max-time-difference", seq.max_time_difference);
+  const bool fixed = o.values.count("--pose") || o.values.count("--quaternion") ||
+                     o.values.count("--rpy") || o.values.count("--gravity");
+  const bool has_gt = o.values.count("--groundtruth") > 0;
+  const bool has_acc = o.values.count("--accelerometer") > 0;
+  if (int(fixed) + int(has_gt) + int(has_acc) > 1) {
+    throw std::invalid_argument(
+        "give one orientation source: --groundtruth, --accelerometer, or a fixed one");
+  }
+  hope::Orientation fixed_orientation = orientation(o);
+  if (fixed) {
+    seq.source = hope::tools::OrientationSource::kNone;
+  } else if (has_acc) {
+    seq.source = hope::tools::OrientationSource::kAccelerometer;
+    seq.orientation_file = o.values.at("--accelerometer");
+  } else {
+    seq.source = hope::tools::OrientationSource::kGroundTruth;
+    seq.orientation_file = has_gt ? o.values.at("--groundtruth") : std::string();
+    if (!has_gt && !std::filesystem::exists(std::filesystem::path(seq.dir) / "groundtruth.txt")) {
+      throw std::invalid_argument("no " + seq.dir +
+                                  "/groundtruth.txt: give --groundtruth FILE, --accelerometer "
+                                  "FILE, or one fixed --pose/--quaternion/--rpy/--gravity");
+    }
+  }
+  const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
+  if (listing.skipped_without_orientation > 0) {
+    std::cerr << "hope_extract: warning: skipped " << listing.skipped_without_orientation
+              << " frame(s) with no orientation within " << seq.max_time_difference << " s\n";
+  }
+
+  std::ofstream jsonl;
+  if (o.values.count("--jsonl")) {
+    jsonl.open(o.values.at("--jsonl"));
+    if (!jsonl) throw std::runtime_error("cannot write '" + o.values.at("--jsonl") + "'");
+  }
+  const std::string overlay_dir =
+      o.values.count("--overlay-dir") ? o.values.at("--overlay-dir") : "";
+  if (!overlay_dir.empty()) std::filesystem::create_directories(overlay_dir);
+  const hope::PinholeIntrinsics k = intrinsics(o);
+  const double depth_scale = number(o, "--depth-scale", 5000);
+
+  Progress progress(listing.frames.size(), !o.quiet);
+  std::set<int> ids;
+  std::size_t total_planes = 0;
+  double extract_ms = 0, track_ms = 0;
+  for (std::size_t f = 0; f < listing.frames.size(); ++f) {
+    const hope::tools::SequenceFrame& frame = listing.frames[f];
+    const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
+    const hope::tools::InputCloud input =
+        frame.depth.empty()
+            ? hope::tools::loadCloud(frame.cloud)
+            : hope::tools::loadDepth(frame.depth, overlay_dir.empty() ? "" : frame.rgb, k,
+                                     depth_scale);
+    hope::Result result = extractor.extract(
+        input.cloud, seq.source == hope::tools::OrientationSource::kNone ? fixed_orientation
+                                                                         : frame.orientation);
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<hope::TrackEvent> events = tracker.update(result.planes, frame.stamp);
+    track_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    extract_ms += result.timings.total_ms;
+    total_planes += result.planes.size();
+    for (const auto& p : result.planes) ids.insert(p.id);
+
+    if (jsonl.is_open()) {
+      char stamp[40];
+      std::snprintf(stamp, sizeof(stamp), "%.6f", frame.stamp);
+      jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file)
+            << ", \"planes\": [";
+      for (std::size_t p = 0; p < result.planes.size(); ++p) {
+        jsonl << (p ? ", " : "");
+        hope::tools::writePlaneJson(jsonl, result.planes[p]);
+      }
+      jsonl << "], \"events\": [";
+      for (std::size_t e = 0; e < events.size(); ++e) {
+        jsonl << (e ? ", " : "") << "{\"kind\": \"" << hope::toString(events[e].kind)
+              << "\", \"id\": " << events[e].id << ", \"other_id\": " << events[e].other_id << "}";
+      }
+      jsonl << "]}\n";
+    }
+    if (!overlay_dir.empty()) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/%.6f.png", frame.stamp);
+      const cv::Mat image = hope::tools::renderOverlay(input.cloud, input.has_color,
+                                                       extractor.alignedPoints(), result);
+      if (!cv::imwrite(overlay_dir + name, image))
+        throw std::runtime_error("cannot write '" + overlay_dir + name + "'");
+    }
+    progress.update(f + 1);
+  }
+  if (jsonl.is_open() && !jsonl) throw std::runtime_error("writing the JSON lines failed");
+  const double n = static_cast<double>(listing.frames.size());
+  std::printf(
+      "%zu frame(s) of %s (%s, %s tracking): %.1f planes/frame, %zu distinct ids, extraction "
+      "%.2f ms/frame, tracking %.3f ms/frame\n",
+      listing.frames.size(), seq.dir.c_str(), listing.layout.c_str(),
+      hope::toString(tracker_options.mode), total_planes / n, ids.size(), extract_ms / n,
+      track_ms / n);
+  return 0;
+}
+
+int run(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  if (o.values.count("--sequence")) return runSequence(o);
+  for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
+                                    "--tracking", "--jsonl", "--overlay-dir"}) {
+    if (o.values.count(sequence_only)) {
+      throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
+    }
+  }
+  const bool has_input = o.values.count("--input") > 0;
+  const bool has_depth = o.values.count("--depth") > 0;
+  if (has_input == has_depth) {
+    throw std::invalid_argument("give exactly one of --input, --depth or --sequence (see --help)");
+  }
+  if (!has_depth && (o.values.count("--rgb") || o.values.count("--intrinsics") ||
+                     o.values.count("--depth-scale"))) {
+    throw std::invalid_argument("--rgb, --intrinsics and --depth-scale go with --depth");
+  }
+
+  hope::Extractor extractor(parameters(o));  // validates before any file is read
   const hope::Orientation pose = orientation(o);
 
   hope::tools::InputCloud input;
   if (has_input) {
     input = hope::tools::loadCloud(o.values.at("--input"));
   } else {
-    hope::PinholeIntrinsics k = hope::PinholeIntrinsics::tumFreiburg1();
-    if (o.values.count("--intrinsics")) {
-      const auto v = hope::tools::parseNumbers(o.values.at("--intrinsics"), 4, "--intrinsics");
-      k = {v[0], v[1], v[2], v[3]};
-    }
+    const hope::PinholeIntrinsics k = intrinsics(o);
     const auto rgb = o.values.count("--rgb") ? o.values.at("--rgb") : std::string();
     input =
         hope::tools::loadDepth(o.values.at("--depth"), rgb, k, number(o, "--depth-scale", 5000));

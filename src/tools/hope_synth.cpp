@@ -1,5 +1,10 @@
-// hope_synth: renders a synthetic scene with an exact answer, as a TUM-style depth/colour pair
-// plus the camera pose, so that hope_extract can be tried without any dataset.
+// hope_synth: renders synthetic scenes with an exact answer so that hope_extract can be tried
+// without any dataset: one TUM-style depth/colour pair with its pose, or a whole moving-camera
+// sequence in the TUM RGB-D folder layout.
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
@@ -8,52 +13,151 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/synthetic/scene.h"
+#include "hope/synthetic/sequences.h"
 
-int main(int argc, char** argv) {
-  std::string out_dir;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--out" && i + 1 < argc) {
-      out_dir = argv[++i];
-    } else if (arg == "--help" || arg == "-h") {
-      std::cout << "usage: hope_synth --out DIR\n"
-                   "Renders the demo room (floor, table, book, cabinet, two stair treads, a ramp,\n"
-                   "a ball, a cone, a tube) seen by a 640x480 depth camera with structured-light\n"
-                   "noise. Writes DIR/depth.png (16-bit, 5000 per metre), DIR/rgb.png,\n"
-                   "DIR/pose.txt (tx ty tz qx qy qz qw) and DIR/truth.txt (the planes to find).\n";
-      return 0;
-    } else {
-      std::cerr << "hope_synth: error: unknown argument '" << arg << "' (see --help)\n";
-      return 2;
+namespace {
+
+const char* kUsage = R"(usage: hope_synth --out DIR [--sequence NAME [--frames N] [--width W]]
+
+Without --sequence: renders the demo room (floor, table, book, cabinet, two stair treads, a
+ramp, a ball, a cone, a tube) seen by a 640x480 depth camera with structured-light noise.
+Writes DIR/depth.png (16-bit, 5000 per metre), DIR/rgb.png, DIR/pose.txt
+(tx ty tz qx qy qz qw) and DIR/truth.txt (the planes to find).
+
+With --sequence NAME (pan, rpy, shake, occlusion, leave_enter): a moving camera over floor,
+table, book, cabinet, stairs and the paper's pattern object, N frames at 30 Hz (default 60),
+W pixels wide (default 640; intrinsics scaled), in the TUM RGB-D layout: depth/ rgb/ truth/
+(ground-truth surface per pixel, 16-bit, label + 1), depth.txt, rgb.txt, groundtruth.txt,
+accelerometer.txt (optical frame, m/s^2, pointing up at rest) and intrinsics.txt (fx fy cx cy).
+)";
+
+void writeImage(const std::string& path, const cv::Mat& image) {
+  if (!cv::imwrite(path, image)) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+cv::Mat depthTo16Bit(const cv::Mat& depth) {
+  cv::Mat depth16(depth.size(), CV_16UC1);
+  depth.convertTo(depth16, CV_16UC1, 5000.0);  // TUM scale; saturates beyond 13 m
+  return depth16;
+}
+
+std::string poseText(const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q(pose.linear());
+  const Eigen::Vector3d t = pose.translation();
+  char text[200];
+  std::snprintf(text, sizeof(text), "%.6f %.6f %.6f %.9f %.9f %.9f %.9f", t.x(), t.y(), t.z(),
+                q.x(), q.y(), q.z(), q.w());
+  return text;
+}
+
+void writeDemo(const std::string& out_dir) {
+  using namespace hope::synthetic;
+  const Scene scene = demoRoom();
+  const Camera camera = demoCamera();
+  const RenderedFrame frame = scene.render(camera);
+  writeImage(out_dir + "/depth.png", depthTo16Bit(frame.depth));
+  writeImage(out_dir + "/rgb.png", frame.bgr);
+  std::ofstream pose(out_dir + "/pose.txt");
+  pose << poseText(camera.pose) << "\n";
+  std::ofstream truth(out_dir + "/truth.txt");
+  truth << "# label height_m surface\n0 0.00 floor\n1 0.75 table top\n2 0.45 cabinet top\n"
+           "3 0.17 first stair tread\n4 0.34 second stair tread\n5 0.80 book on the table\n"
+           "# not planes: a ramp sloped 0.5 rad, a ball, a cone, a lying tube\n";
+  if (!pose || !truth) throw std::runtime_error("cannot write text files into '" + out_dir + "'");
+  std::cout << "hope_synth: wrote " << out_dir << "/{depth.png,rgb.png,pose.txt,truth.txt}\n";
+}
+
+void writeSequence(const std::string& out_dir, const std::string& name, int frames, int width) {
+  using namespace hope::synthetic;
+  const TrackingSequence sequence = makeTrackingSequence(name, frames, width);
+  const TrackingScene scene;
+  namespace fs = std::filesystem;
+  for (const char* sub : {"depth", "rgb", "truth"}) fs::create_directories(fs::path(out_dir) / sub);
+  std::ofstream depth_list(out_dir + "/depth.txt"), rgb_list(out_dir + "/rgb.txt"),
+      groundtruth(out_dir + "/groundtruth.txt"), accelerometer(out_dir + "/accelerometer.txt"),
+      intrinsics(out_dir + "/intrinsics.txt");
+  depth_list << "# depth maps\n# sequence: " << name << " (" << sequence.description
+             << ")\n# timestamp filename\n";
+  rgb_list << "# color images\n# timestamp filename\n";
+  groundtruth << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n";
+  accelerometer << "# accelerometer data\n# timestamp ax ay az\n";
+  const auto& k = sequence.frames.front().camera.intrinsics;
+  intrinsics << k.fx << " " << k.fy << " " << k.cx << " " << k.cy << "\n";
+  const double t0 = 1300000000.0;  // like TUM: seconds since the epoch
+  for (std::size_t f = 0; f < sequence.frames.size(); ++f) {
+    const TrackingFrame& frame = sequence.frames[f];
+    SensorNoise noise;
+    noise.seed = static_cast<std::uint32_t>(f + 1);
+    const RenderedFrame rendered = scene.render(frame.camera, frame.occluder_xy, noise);
+    char stamp[32];
+    std::snprintf(stamp, sizeof(stamp), "%.6f", t0 + frame.stamp);
+    writeImage(out_dir + "/depth/" + stamp + ".png", depthTo16Bit(rendered.depth));
+    writeImage(out_dir + "/rgb/" + stamp + ".png", rendered.bgr);
+    cv::Mat truth16;
+    rendered.labels.convertTo(truth16, CV_16UC1, 1.0, 1.0);  // -1 (none) → 0
+    writeImage(out_dir + "/truth/" + stamp + ".png", truth16);
+    depth_list << stamp << " depth/" << stamp << ".png\n";
+    rgb_list << stamp << " rgb/" << stamp << ".png\n";
+    // Sensors are not synchronized: pose and accelerometer 4 ms after the image.
+    char later[32];
+    std::snprintf(later, sizeof(later), "%.6f", t0 + frame.stamp + 0.004);
+    groundtruth << later << " " << poseText(frame.camera.pose) << "\n";
+    const Eigen::Vector3d up = frame.camera.pose.linear().transpose() * Eigen::Vector3d::UnitZ();
+    accelerometer << later << " " << 9.81 * up.x() << " " << 9.81 * up.y() << " " << 9.81 * up.z()
+                  << "\n";
+    if (isatty(2)) {
+      std::fprintf(stderr, "\rhope_synth: %s frame %zu/%zu", name.c_str(), f + 1,
+                   sequence.frames.size());
     }
   }
-  if (out_dir.empty()) {
-    std::cerr << "hope_synth: error: --out DIR is required\n";
+  if (isatty(2)) std::fprintf(stderr, "\n");
+  if (!depth_list || !rgb_list || !groundtruth || !accelerometer || !intrinsics)
+    throw std::runtime_error("cannot write the lists into '" + out_dir + "'");
+  std::cout << "hope_synth: wrote " << sequence.frames.size() << " frames of '" << name << "' to "
+            << out_dir << " (TUM RGB-D layout)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out_dir, sequence;
+  int frames = 60, width = 640;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+        return argv[++i];
+      };
+      if (arg == "--out") {
+        out_dir = value();
+      } else if (arg == "--sequence") {
+        sequence = value();
+      } else if (arg == "--frames") {
+        frames = std::stoi(value());
+      } else if (arg == "--width") {
+        width = std::stoi(value());
+      } else if (arg == "--help" || arg == "-h") {
+        std::cout << kUsage;
+        return 0;
+      } else {
+        throw std::invalid_argument("unknown argument '" + arg + "' (see --help)");
+      }
+    }
+    if (out_dir.empty()) throw std::invalid_argument("--out DIR is required");
+  } catch (const std::exception& e) {
+    std::cerr << "hope_synth: error: " << e.what() << "\n";
     return 2;
   }
   try {
-    using namespace hope::synthetic;
-    const Scene scene = demoRoom();
-    const Camera camera = demoCamera();
-    const RenderedFrame frame = scene.render(camera);
-    cv::Mat depth16(frame.depth.size(), CV_16UC1);
-    frame.depth.convertTo(depth16, CV_16UC1, 5000.0);  // TUM scale; saturates beyond 13 m
-    if (!cv::imwrite(out_dir + "/depth.png", depth16) ||
-        !cv::imwrite(out_dir + "/rgb.png", frame.bgr)) {
-      throw std::runtime_error("cannot write images into '" + out_dir + "' (does it exist?)");
+    if (sequence.empty()) {
+      writeDemo(out_dir);
+    } else {
+      writeSequence(out_dir, sequence, frames, width);
     }
-    const Eigen::Quaterniond q(camera.pose.linear());
-    const Eigen::Vector3d t = camera.pose.translation();
-    std::ofstream pose(out_dir + "/pose.txt");
-    pose.precision(9);
-    pose << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z()
-         << " " << q.w() << "\n";
-    std::ofstream truth(out_dir + "/truth.txt");
-    truth << "# label height_m surface\n0 0.00 floor\n1 0.75 table top\n2 0.45 cabinet top\n"
-             "3 0.17 first stair tread\n4 0.34 second stair tread\n5 0.80 book on the table\n"
-             "# not planes: a ramp sloped 0.5 rad, a ball, a cone, a lying tube\n";
-    if (!pose || !truth) throw std::runtime_error("cannot write text files into '" + out_dir + "'");
-    std::cout << "hope_synth: wrote " << out_dir << "/{depth.png,rgb.png,pose.txt,truth.txt}\n";
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "hope_synth: error: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "hope_synth: error: " << e.what() << "\n";
     return 1;

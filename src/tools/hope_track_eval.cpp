@@ -1,5 +1,7 @@
 // hope_track_eval: how well plane ids survive camera motion, paper mode vs improved mode, on
 // synthetic sequences whose surfaces are known (docs/tracking.md is made by this tool).
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -135,7 +137,7 @@ int run(int argc, char** argv) {
       const auto cloud = hope::depthToCloud(rendered.depth, frame.camera.intrinsics, 1.0);
       std::vector<int> point_truth(rendered.labels.begin<std::int32_t>(),
                                    rendered.labels.end<std::int32_t>());
-      const std::set<int> visible = visibleSurfaces(rendered.labels, 100);
+      const std::set<int> visible = visibleSurfaces(rendered.labels, 500);
       stamps.push_back(frame.stamp);
       for (int source = 0; source < 2; ++source) {
         const hope::Orientation orientation =
@@ -149,9 +151,10 @@ int run(int argc, char** argv) {
         fp.visible = visible;
         (source == 0 ? by_pose : by_gravity).push_back(std::move(fp));
       }
-      std::fprintf(stderr, "\r%s: frame %zu/%zu", name.c_str(), f + 1, sequence.frames.size());
+      if (isatty(2))
+        std::fprintf(stderr, "\r%s: frame %zu/%zu", name.c_str(), f + 1, sequence.frames.size());
     }
-    std::fprintf(stderr, "\n");
+    if (isatty(2)) std::fprintf(stderr, "\n");
     for (int source = 0; source < 2; ++source) {
       for (auto mode : {hope::TrackingMode::kPaper, hope::TrackingMode::kImproved}) {
         Row row = score(source == 0 ? by_pose : by_gravity, stamps, mode);

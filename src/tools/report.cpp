@@ -36,6 +36,8 @@ std::string escape(const std::string& s) {
 
 }  // namespace
 
+std::string jsonString(const std::string& text) { return "\"" + escape(text) + "\""; }
+
 void printTable(std::ostream& out, const Result& result) {
   char line[200];
   std::snprintf(line, sizeof(line), "%4s %9s %9s %9s %8s  %s\n", "id", "height_m", "area_m2",
@@ -60,19 +62,24 @@ void printTable(std::ostream& out, const Result& result) {
   out.unsetf(std::ios::floatfield);
 }
 
+void writePlaneJson(std::ostream& out, const Plane& p) {
+  out << "{\"id\": " << p.id << ", \"height\": " << number(p.height) << ", \"bbox\": ["
+      << number(p.bbox[0]) << ", " << number(p.bbox[1]) << ", " << number(p.bbox[2]) << ", "
+      << number(p.bbox[3]) << "]"
+      << ", \"centroid\": " << vec3(p.centroid) << ", \"normal\": " << vec3(p.normal)
+      << ", \"tilt\": " << number(p.tilt) << ", \"area\": " << number(p.area)
+      << ", \"num_points\": " << p.num_points << ", \"num_voxels\": " << p.num_voxels
+      << ", \"age\": " << p.age << ", \"last_seen\": " << number(p.last_seen, 17)
+      << ", \"split_from\": " << p.split_from << ", \"hull\": [";
+  for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
+  out << "]}";
+}
+
 void writeJson(std::ostream& out, const Result& result) {
   out << "{\n  \"planes\": [";
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
-    const Plane& p = result.planes[k];
-    out << (k ? "," : "") << "\n    {\"id\": " << p.id << ", \"height\": " << number(p.height)
-        << ", \"bbox\": [" << number(p.bbox[0]) << ", " << number(p.bbox[1]) << ", "
-        << number(p.bbox[2]) << ", " << number(p.bbox[3]) << "]"
-        << ", \"centroid\": " << vec3(p.centroid) << ", \"normal\": " << vec3(p.normal)
-        << ", \"tilt\": " << number(p.tilt) << ", \"area\": " << number(p.area)
-        << ", \"num_points\": " << p.num_points << ", \"num_voxels\": " << p.num_voxels
-        << ", \"hull\": [";
-    for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
-    out << "]}";
+    out << (k ? "," : "") << "\n    ";
+    writePlaneJson(out, result.planes[k]);
   }
   const StageTimings& t = result.timings;
   out << "\n  ],\n  \"stats\": {\"input_points\": " << result.input_points

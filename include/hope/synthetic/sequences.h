@@ -52,7 +52,8 @@ struct TrackingSequence {
 
 // "pan", "rpy", "shake", "occlusion", "leave_enter".
 std::vector<std::string> trackingSequenceNames();
-// `frames` frames at 30 Hz, camera images `width` × 3/4·width (TUM intrinsics scaled).
+// `frames` frames at 30 Hz, camera images `width` × 3/4·width (TUM intrinsics scaled). Each
+// motion takes 3 s (90 frames); a shorter sequence is its beginning.
 // Throws std::invalid_argument for an unknown name or fewer than 2 frames.
 TrackingSequence makeTrackingSequence(const std::string& name, int frames, int width = 640,
                                       unsigned seed = 1);

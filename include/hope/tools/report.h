@@ -16,5 +16,11 @@ void printTable(std::ostream& out, const Result& result);
 // …}], "stats": {…}, "timings_ms": {…}}
 void writeJson(std::ostream& out, const Result& result);
 
+// One plane as a JSON object on one line: every field of hope::Plane.
+void writePlaneJson(std::ostream& out, const Plane& plane);
+
+// A string as a JSON string literal (quotes added, control characters replaced).
+std::string jsonString(const std::string& text);
+
 }  // namespace tools
 }  // namespace hope

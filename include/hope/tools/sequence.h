@@ -1,0 +1,78 @@
+// Reading sequences in the TUM RGB-D folder layout (depth.txt, rgb.txt, groundtruth.txt,
+// accelerometer.txt and the images), or folders of PCD files, frame by frame with the
+// orientation nearest in time.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "hope/gravity_alignment.h"
+
+namespace hope {
+namespace tools {
+
+struct StampedFile {
+  double stamp = 0;
+  std::string path;  // as found (absolute, or relative to the working directory)
+};
+
+// A TUM list file (rgb.txt, depth.txt): "timestamp filename" per line, '#' comments.
+// Filenames are relative to `base_dir`. Throws std::runtime_error naming the file and line.
+std::vector<StampedFile> readFileList(const std::string& list_path, const std::string& base_dir);
+
+struct StampedPose {
+  double stamp = 0;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+// TUM groundtruth.txt: "timestamp tx ty tz qx qy qz qw" (pose of the optical frame in the
+// world, z up). Quaternions are normalized; a zero or non-finite one is an error.
+std::vector<StampedPose> readGroundTruth(const std::string& path);
+
+struct StampedVector {
+  double stamp = 0;
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();
+};
+// TUM accelerometer.txt: "timestamp ax ay az" in m/s², read as the specific force in the
+// camera optical frame (pointing up at rest).
+std::vector<StampedVector> readAccelerometer(const std::string& path);
+
+// Index of the entry nearest in time to `stamp` (entries sorted by stamp), or -1 when the
+// nearest is further than `max_difference` seconds.
+template <class Stamped>
+int nearestInTime(const std::vector<Stamped>& entries, double stamp, double max_difference);
+
+struct SequenceFrame {
+  double stamp = 0;
+  std::string depth;  // depth image, or
+  std::string cloud;  // point cloud file
+  std::string rgb;    // colour image nearest in time (TUM layout), may be empty
+  Orientation orientation = Orientation::identity();
+};
+
+enum class OrientationSource { kNone, kGroundTruth, kAccelerometer };
+
+struct SequenceOptions {
+  std::string dir;
+  OrientationSource source = OrientationSource::kGroundTruth;
+  std::string orientation_file;  // default: DIR/groundtruth.txt or DIR/accelerometer.txt
+  // Largest time difference between a frame and its orientation or colour image. TUM's own
+  // association tool uses 0.02 s.
+  double max_time_difference = 0.02;
+};
+
+struct SequenceListing {
+  std::vector<SequenceFrame> frames;
+  std::size_t skipped_without_orientation = 0;
+  std::string layout;  // "TUM RGB-D" or "PCD folder"
+};
+
+// Lists the frames of DIR: the TUM layout when DIR/depth.txt exists, otherwise the .pcd files
+// in DIR sorted by name, stamped by their numeric file name (or their position when the name
+// is not a number). Frames with no orientation within max_time_difference are skipped and
+// counted. Throws std::runtime_error for a missing folder, no frames, or unreadable files.
+SequenceListing listSequence(const SequenceOptions& options);
+
+}  // namespace tools
+}  // namespace hope

@@ -1,0 +1,199 @@
+// Sequences from the command line: the TUM RGB-D folder layout and PCD folders, orientation
+// by timestamp from ground truth or the accelerometer, ids kept across frames.
+#include <cmath>
+#include <map>
+#include <regex>
+#include <set>
+#include <vector>
+
+#include <pcl/io/pcd_io.h>
+
+#include "cli_helpers.h"
+#include "helpers.h"
+#include "hope/tools/sequence.h"
+
+namespace hope {
+namespace test {
+
+namespace {
+
+struct JsonPlane {
+  int id;
+  double height;
+  long points;
+};
+
+// The planes of each line of a --jsonl file: id and height of every plane object.
+std::vector<std::vector<JsonPlane>> readJsonLines(const std::string& path) {
+  std::vector<std::vector<JsonPlane>> frames;
+  std::istringstream lines(slurp(path));
+  const std::regex plane(R"(\{"id": (-?\d+), "height": ([-0-9.e+]+)[^{]*"num_points": (\d+))");
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_EQ(line.rfind("{\"stamp\": ", 0), 0u) << line.substr(0, 80);
+    std::vector<JsonPlane> planes;
+    for (std::sregex_iterator it(line.begin(), line.end(), plane), end; it != end; ++it) {
+      planes.push_back({std::stoi((*it)[1]), std::stod((*it)[2]), std::stol((*it)[3])});
+    }
+    frames.push_back(planes);
+  }
+  return frames;
+}
+
+// The id of the largest plane within 3 cm of `height`, or -1.
+int idNear(const std::vector<JsonPlane>& planes, double height) {
+  int id = -1;
+  long largest = 0;
+  for (const auto& p : planes) {
+    if (std::fabs(p.height - height) < 0.03 && p.points > largest) {
+      largest = p.points;
+      id = p.id;
+    }
+  }
+  return id;
+}
+
+class Sequence : public Cli {
+ protected:
+  // A 6-frame occlusion sequence, 320 px wide, in the TUM layout.
+  void makeTumSequence() {
+    const CliRun synth = runTool(
+        HOPE_SYNTH_BIN, "--out " + dir_ + "/seq --sequence occlusion --frames 6 --width 320");
+    ASSERT_EQ(synth.exit_code, 0) << synth.output;
+    intrinsics_ = "--intrinsics \"" + slurp(dir_ + "/seq/intrinsics.txt") + "\"";
+    intrinsics_.erase(std::remove(intrinsics_.begin(), intrinsics_.end(), '\n'), intrinsics_.end());
+  }
+  std::string intrinsics_;
+};
+
+}  // namespace
+
+TEST(SequenceFiles, ReadsTumListsAndPairsByNearestTime) {
+  char tmpl[] = "/tmp/hope_seqfiles_XXXXXX";
+  const std::string dir = mkdtemp(tmpl);
+  std::ofstream(dir + "/depth.txt") << "# comment\n\n2.0 depth/b.png\n1.0 depth/a.png\n";
+  const auto files = tools::readFileList(dir + "/depth.txt", dir);
+  ASSERT_EQ(files.size(), 2u);
+  EXPECT_EQ(files[0].stamp, 1.0) << "sorted by time";
+  EXPECT_EQ(files[0].path, dir + "/depth/a.png");
+  EXPECT_EQ(tools::nearestInTime(files, 1.4, 0.5), 0);
+  EXPECT_EQ(tools::nearestInTime(files, 1.6, 0.5), 1);
+  EXPECT_EQ(tools::nearestInTime(files, 3.0, 0.5), -1) << "too far from any entry";
+  std::ofstream(dir + "/gt.txt") << "1.0 0 0 1.5 0 0 0 2\n";  // non-unit quaternion: normalized
+  const auto poses = tools::readGroundTruth(dir + "/gt.txt");
+  ASSERT_EQ(poses.size(), 1u);
+  EXPECT_TRUE(poses[0].pose.linear().isIdentity(1e-12));
+  EXPECT_EQ(poses[0].pose.translation().z(), 1.5);
+  std::ofstream(dir + "/bad.txt") << "1.0 0 0 1.5 0 0 0 0\n";
+  EXPECT_THROW(tools::readGroundTruth(dir + "/bad.txt"), std::invalid_argument);
+  std::ofstream(dir + "/short.txt") << "1.0 0 0\n";
+  try {
+    tools::readAccelerometer(dir + "/short.txt");
+    ADD_FAILURE() << "a short line must be an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.txt:1"), std::string::npos) << e.what();
+  }
+  std::system(("rm -rf " + dir).c_str());
+}
+
+TEST_F(Sequence, TumFolderWithGroundTruthKeepsTheTableIdAtItsRealHeight) {
+  makeTumSequence();
+  const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --jsonl " + dir_ +
+                       "/out.jsonl --overlay-dir " + dir_ + "/overlays");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("6 frame(s)"), std::string::npos) << r.output;
+  const auto frames = readJsonLines(dir_ + "/out.jsonl");
+  ASSERT_EQ(frames.size(), 6u);
+  const int table = idNear(frames[0], 0.75), floor = idNear(frames[0], 0.0);
+  ASSERT_GE(table, 0) << "no table at 0.75 m in the first frame";
+  ASSERT_GE(floor, 0);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    EXPECT_EQ(idNear(frames[f], 0.75), table) << "frame " << f;
+    EXPECT_EQ(idNear(frames[f], 0.0), floor) << "frame " << f;
+    std::set<int> ids;
+    for (const auto& p : frames[f])
+      EXPECT_TRUE(ids.insert(p.id).second) << "id twice in frame " << f;
+  }
+  EXPECT_TRUE(std::ifstream(dir_ + "/overlays/1300000000.000000.png").good());
+}
+
+TEST_F(Sequence, AccelerometerGivesHeightsRelativeToTheCamera) {
+  makeTumSequence();
+  const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --accelerometer " + dir_ +
+                       "/seq/accelerometer.txt --tracking paper --jsonl " + dir_ + "/acc.jsonl");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto frames = readJsonLines(dir_ + "/acc.jsonl");
+  ASSERT_EQ(frames.size(), 6u);
+  // The camera is 1.5 m above the floor: floor at -1.5, table at -0.75 relative to it.
+  EXPECT_GE(idNear(frames[0], -1.5), 0) << r.output;
+  EXPECT_GE(idNear(frames[0], -0.75), 0) << r.output;
+}
+
+TEST_F(Sequence, FramesWithoutAnOrientationAreSkippedAndCounted) {
+  makeTumSequence();
+  // Keep only the first three poses.
+  std::istringstream all(slurp(dir_ + "/seq/groundtruth.txt"));
+  std::ofstream partial(dir_ + "/partial.txt");
+  int kept = 0;
+  for (std::string line; std::getline(all, line);) {
+    if (line[0] == '#' || kept++ < 3) partial << line << "\n";
+  }
+  partial.close();
+  const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --groundtruth " + dir_ +
+                       "/partial.txt --quiet --jsonl " + dir_ + "/p.jsonl");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("skipped 3 frame(s)"), std::string::npos) << r.output;
+  EXPECT_EQ(readJsonLines(dir_ + "/p.jsonl").size(), 3u);
+}
+
+TEST_F(Sequence, PcdFolderNamedByTimestamp) {
+  // Three clouds of a table top at 0.7 m and a floor, named by stamp, poses by stamp.
+  std::ofstream gt(dir_ + "/groundtruth.txt");
+  for (int f = 0; f < 3; ++f) {
+    LabeledCloud scene;
+    addSheet(scene, 0, 0, 1, 1, 0.7, 0.01, 1);
+    addSheet(scene, -2, -2, 2, -1, 0.0, 0.02, 0);
+    // Stored in a sensor frame 0.1·f m lower: the pose lifts it back.
+    for (auto& p : scene.cloud) p.z -= 0.1f * f;
+    const std::string stamp = std::to_string(100 + f) + ".5";
+    pcl::io::savePCDFileBinary(dir_ + "/" + stamp + ".pcd", scene.cloud);
+    gt << stamp << " 0 0 " << 0.1 * f << " 0 0 0 1\n";
+  }
+  gt.close();
+  const CliRun r = run("--sequence " + dir_ + " --jsonl " + dir_ + "/pcd.jsonl");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("PCD folder"), std::string::npos) << r.output;
+  const auto frames = readJsonLines(dir_ + "/pcd.jsonl");
+  ASSERT_EQ(frames.size(), 3u);
+  const int table = idNear(frames[0], 0.7), floor = idNear(frames[0], 0.0);
+  ASSERT_GE(table, 0) << r.output;
+  ASSERT_GE(floor, 0) << r.output;
+  EXPECT_NE(table, floor);
+  for (const auto& planes : frames) {
+    EXPECT_EQ(planes.size(), 2u);
+    EXPECT_EQ(idNear(planes, 0.7), table);
+    EXPECT_EQ(idNear(planes, 0.0), floor);
+  }
+}
+
+TEST_F(Sequence, ClearErrorsForBadSequences) {
+  CliRun r = run("--sequence " + dir_ + "/missing");
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // no groundtruth.txt: a usage error
+  EXPECT_NE(r.output.find("groundtruth.txt"), std::string::npos) << r.output;
+  r = run("--sequence " + dir_ + "/missing --rpy \"0 0 0\"");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("is not a folder"), std::string::npos) << r.output;
+  r = run("--sequence " + dir_ + " --rpy \"0 0 0\"");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("no frames"), std::string::npos) << r.output;
+  r = run("--sequence " + dir_ + " --tracking best --rpy \"0 0 0\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("paper or improved"), std::string::npos) << r.output;
+  r = run("--input x.pcd --jsonl out.jsonl");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("goes with --sequence"), std::string::npos) << r.output;
+  r = run("--sequence " + dir_ + " --json out.json --rpy \"0 0 0\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+}  // namespace test
+}  // namespace hope

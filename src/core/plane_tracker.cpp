@@ -81,7 +81,7 @@ double shareInside(const std::array<double, 4>& a, const std::array<double, 4>& 
 double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
   const double gx = std::max({a[0] - b[2], b[0] - a[2], 0.0});
   const double gy = std::max({a[1] - b[3], b[1] - a[3], 0.0});
-  return std::hypot(gx, gy);
+  return std::sqrt(gx * gx + gy * gy);
 }
 
 // Parts of one surface (a split, a merge) lie at the same height within noise; a book on a
@@ -101,13 +101,15 @@ double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d&
   const std::array<double, 4> moved = {before.bbox[0] + shift.x(), before.bbox[1] + shift.y(),
                                        before.bbox[2] + shift.x(), before.bbox[3] + shift.y()};
   const double dz = std::fabs(now.height - before.height - shift.z());
+  if (dz > o.max_height_change) return kForbidden;
   const double gap = boxGap(moved, now.bbox);
-  if (dz > o.max_height_change || gap > o.max_xy_gap) return kForbidden;
+  if (gap > o.max_xy_gap) return kForbidden;
   const double area_before = boxArea(moved), area_now = boxArea(now.bbox);
   const double common = intersectionArea(moved, now.bbox);
   const double overlap = std::min(1.0, common / std::min(area_before, area_now));
   const double iou = common / (area_before + area_now - common);
-  return std::pow(dz / o.height_scale, 2) + std::pow(gap / o.xy_scale, 2) + (1.0 - overlap) +
+  const double height_term = dz / o.height_scale, gap_term = gap / o.xy_scale;
+  return height_term * height_term + gap_term * gap_term + (1.0 - overlap) +
          kIouWeight * o.max_match_cost * (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
 }
 
@@ -182,14 +184,28 @@ std::vector<int> assignWithinComponents(const Eigen::MatrixXd& cost, double unpa
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c)
       if (cost(r, c) < 2 * unpaired) parent[root(r)] = root(rows + c);
-  std::vector<std::vector<int>> component_rows(rows + cols), component_cols(rows + cols);
-  for (int r = 0; r < rows; ++r) component_rows[root(r)].push_back(r);
-  for (int c = 0; c < cols; ++c) component_cols[root(rows + c)].push_back(c);
+  // Members of each component, grouped by root without per-component allocations.
+  std::vector<int> order(rows + cols);
+  for (int i = 0; i < rows + cols; ++i) order[i] = i;
+  std::vector<int> roots(rows + cols);
+  for (int i = 0; i < rows + cols; ++i) roots[i] = root(i);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return roots[a] != roots[b] ? roots[a] < roots[b] : a < b; });
   std::vector<int> assigned(rows, -1);
-  for (int k = 0; k < rows + cols; ++k) {
-    const auto& rs = component_rows[k];
-    const auto& cs = component_cols[k];
+  std::vector<int> rs, cs;
+  for (std::size_t begin = 0; begin < order.size();) {
+    std::size_t end = begin;
+    rs.clear();
+    cs.clear();
+    for (; end < order.size() && roots[order[end]] == roots[order[begin]]; ++end) {
+      (order[end] < rows ? rs : cs).push_back(order[end] < rows ? order[end] : order[end] - rows);
+    }
+    begin = end;
     if (rs.empty() || cs.empty()) continue;
+    if (rs.size() == 1 && cs.size() == 1) {  // the common case: nothing competes
+      if (cost(rs[0], cs[0]) < 2 * unpaired) assigned[rs[0]] = cs[0];
+      continue;
+    }
     const int n = static_cast<int>(rs.size()), m = static_cast<int>(cs.size());
     // [pairs | track unpaired] over [plane unpaired | nothing].
     Eigen::MatrixXd augmented = Eigen::MatrixXd::Constant(n + m, m + n, kForbidden);
@@ -272,11 +288,10 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
   // The shift is kept only when it explains the frame better than no shift.
   const double unpaired = 0.5 * o.max_match_cost;
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  std::vector<int> assigned =
-      assignWithinComponents(pairingCosts(tracks_, planes, shift, o), unpaired);
+  const Eigen::MatrixXd unshifted = pairingCosts(tracks_, planes, shift, o);
+  std::vector<int> assigned = assignWithinComponents(unshifted, unpaired);
   Eigen::Vector3d motion;
   if (medianShift(tracks_, planes, assigned, motion)) {
-    const Eigen::MatrixXd unshifted = pairingCosts(tracks_, planes, shift, o);
     const Eigen::MatrixXd shifted = pairingCosts(tracks_, planes, motion, o);
     std::vector<int> reassigned = assignWithinComponents(shifted, unpaired);
     if (totalCost(shifted, reassigned, unpaired) < totalCost(unshifted, assigned, unpaired)) {

@@ -28,7 +28,8 @@ std::vector<std::pair<double, double>> patternObjectBlockSpans();
 class TrackingScene {
  public:
   TrackingScene();
-  // Renders with the occluder centred at `occluder_xy` (far away when not wanted).
+  // Renders with the occluder centred at `occluder_xy` (far away when not wanted). Moves the
+  // occluder in place, so one TrackingScene must not render two frames concurrently.
   RenderedFrame render(const Camera& camera, const Eigen::Vector2d& occluder_xy,
                        const SensorNoise& noise) const;
   static const char* surfaceName(int label);

@@ -23,4 +23,14 @@ struct RefinementVerdict {
 RefinementVerdict refineWithPCA(const std::vector<Eigen::Vector3f>& normals,
                                 const std::vector<std::uint32_t>& members, double gamma);
 
+class VoxelGrid;
+
+// The smaller principal variance of the cluster's footprint, in grid cells². A footprint one
+// cell wide has about 0 (a 2 × 2 block has 0.25): such a cluster cannot show a slope across
+// itself — a slope just steeper than atan γ falls apart under Z clustering into level strips
+// one cell wide whose grid normals still look horizontal — so the extractor rejects
+// footprints below kMinFootprintVariance.
+double footprintMinorVariance(const VoxelGrid& grid, const std::vector<std::uint32_t>& members);
+constexpr double kMinFootprintVariance = 0.2;
+
 }  // namespace hope

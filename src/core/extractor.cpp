@@ -78,7 +78,10 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   std::vector<RefinementVerdict> verdicts(clusters.size());
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     verdicts[c] = refineWithPCA(normals_, clusters[c], gamma);
-    if (verdicts[c].horizontal) kept.push_back(c);
+    if (verdicts[c].horizontal &&
+        footprintMinorVariance(grid_, clusters[c]) >= kMinFootprintVariance) {
+      kept.push_back(c);
+    }
   }
   result.rejected_by_refinement = clusters.size() - kept.size();
   result.timings.refinement_ms = stage.lap();
@@ -86,6 +89,13 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.point_labels.assign(cloud.count, -1);
   for (std::size_t c : kept) {
     Plane plane = describePlane(grid_, aligned_, clusters[c]);
+    // The plane fitted through the cluster's points must itself be within the accepted slope:
+    // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
+    // level strips), and the fit over the whole strip sees what the normals miss.
+    if (plane.tilt > params_.maxSlope()) {
+      ++result.rejected_by_refinement;
+      continue;
+    }
     if (plane.height < params_.min_height || plane.height > params_.max_height ||
         plane.area < params_.min_area) {
       ++result.rejected_by_band_or_area;

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
+#include "hope/grid_filter.h"
+
 namespace hope {
 
 namespace {
@@ -74,6 +78,20 @@ RefinementVerdict refineWithPCA(const std::vector<Eigen::Vector3f>& normals,
   // Eq 10.
   verdict.horizontal = verdict.mean_tilt < limit && verdict.group_angle < limit;
   return verdict;
+}
+
+double footprintMinorVariance(const VoxelGrid& grid, const std::vector<std::uint32_t>& members) {
+  if (members.empty()) return 0.0;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (std::uint32_t v : members) mean += Eigen::Vector2d(grid.cellX(v), grid.cellY(v));
+  mean /= static_cast<double>(members.size());
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  for (std::uint32_t v : members) {
+    const Eigen::Vector2d d = Eigen::Vector2d(grid.cellX(v), grid.cellY(v)) - mean;
+    covariance += d * d.transpose();
+  }
+  covariance /= static_cast<double>(members.size());
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(covariance).eigenvalues()[0];
 }
 
 }  // namespace hope

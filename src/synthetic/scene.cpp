@@ -167,6 +167,13 @@ bool Cone::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direc
   return true;
 }
 
+SensorNoise SensorNoise::kinectLike() {
+  SensorNoise noise;
+  noise.quantization_at_1m = 0.0029;
+  noise.max_incidence = 80.0 * M_PI / 180.0;
+  return noise;
+}
+
 Camera Camera::lookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   Camera camera;
   const Eigen::Vector3d forward = (target - eye).normalized();
@@ -214,7 +221,15 @@ RenderedFrame Scene::render(const Camera& camera, const SensorNoise& noise) cons
       Eigen::Vector3f color;
       if (!intersect(eye, ray, hit, &color)) continue;
       double depth = hit.t;
-      if (noise.enabled) depth += gauss(rng) * noise.sigma_at_1m * depth * depth;
+      if (noise.enabled) {
+        const double cos_incidence = std::fabs(hit.normal.dot(ray.normalized()));
+        if (cos_incidence < std::cos(noise.max_incidence)) continue;  // grazing: no return
+        depth += gauss(rng) * noise.sigma_at_1m * depth * depth;
+        if (noise.quantization_at_1m > 0) {
+          const double step = noise.quantization_at_1m * depth * depth;
+          depth = step * std::round(depth / step);
+        }
+      }
       frame.depth.at<float>(row, col) = static_cast<float>(depth);
       frame.labels.at<std::int32_t>(row, col) = hit.label;
       const double lambert = std::fabs(hit.normal.dot(ray.normalized()));

@@ -150,5 +150,26 @@ cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_c
   return topDownOverlay(aligned, result);
 }
 
+cv::Mat renderLabelsTopDown(const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<int>& labels, double x0, double y0, double x1,
+                            double y1, int size) {
+  cv::Mat image(size, size, CV_8UC3, cv::Scalar(255, 255, 255));
+  // Higher points are drawn last, so a view from above shows what is on top.
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < points.size() && i < labels.size(); ++i) {
+    if (points[i].allFinite()) order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return points[a].z() < points[b].z(); });
+  for (std::size_t i : order) {
+    const int col = static_cast<int>((points[i].x() - x0) / (x1 - x0) * size);
+    const int row = static_cast<int>((y1 - points[i].y()) / (y1 - y0) * size);
+    if (col < 0 || row < 0 || col >= size || row >= size) continue;
+    image.at<cv::Vec3b>(row, col) =
+        labels[i] >= 0 ? vocColor(labels[i] % 255 + 1) : cv::Vec3b(170, 170, 170);
+  }
+  return image;
+}
+
 }  // namespace tools
 }  // namespace hope

@@ -3,6 +3,7 @@
 // each hit carrying the ground-truth plane it belongs to.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -99,8 +100,16 @@ struct Camera {
 // Range-sensor imperfections. Defaults model a structured-light camera.
 struct SensorNoise {
   double sigma_at_1m = 0.0015;  // depth standard deviation at 1 m; grows with z²
+  // Depth quantization step at 1 m, growing with z² like a structured-light sensor's
+  // disparity steps (0 = none). Kinect-class: 1 / (f · baseline · subpixels) ≈ 2.9 mm.
+  double quantization_at_1m = 0.0;
+  // Rays meeting a surface at more than this angle from its normal return no depth (radians;
+  // π/2 = never), like a projector pattern lost at grazing incidence.
+  double max_incidence = M_PI / 2;
   bool enabled = true;
   std::uint32_t seed = 1;
+  // A Kinect-like sensor: noise, quantization and grazing dropouts at 80°.
+  static SensorNoise kinectLike();
 };
 
 struct RenderedFrame {

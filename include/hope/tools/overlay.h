@@ -23,5 +23,11 @@ cv::Vec3b vocColor(int index);
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
                       const std::vector<Eigen::Vector3f>& aligned, const Result& result);
 
+// A top-down view of `points` over [x0, x1] × [y0, y1] on a `size`-pixel square, each point
+// coloured by its label (VOC colour label + 1; label -1 grey, shaded by height).
+cv::Mat renderLabelsTopDown(const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<int>& labels, double x0, double y0, double x1,
+                            double y1, int size);
+
 }  // namespace tools
 }  // namespace hope

@@ -103,15 +103,13 @@ TEST(PaperEvaluation, EveryFigure3PrimitiveIsRejected) {
 
 TEST(Baselines, LabelEveryPointAndFindTheLargestFace) {
   const auto scan = scanPattern();
-  std::vector<Eigen::Vector3f> points;
-  for (const auto& p : scan.cloud) points.emplace_back(p.x, p.y, p.z);
   const Params paper = paperSetting();
-  const auto grid = evaluation::gridded(points, paper);
-  ASSERT_EQ(grid.point_voxel.size(), points.size());
+  const auto grid = evaluation::gridded(scan.cloud, paper);
+  ASSERT_EQ(grid.point_voxel.size(), scan.cloud.size());
   for (bool ransac : {true, false}) {
     const auto r = ransac ? evaluation::ransacPlanes(grid, paper)
                           : evaluation::regionGrowingPlanes(grid, paper);
-    ASSERT_EQ(r.point_labels.size(), points.size());
+    ASSERT_EQ(r.point_labels.size(), scan.cloud.size());
     ASSERT_FALSE(r.heights.empty());
     // The base (face 0, the largest) is found as one plane at 0.10 m by both.
     const auto scores = evaluation::hooverScores(scan.labels, r.point_labels, 0.8);

@@ -81,6 +81,7 @@ class Extractor {
   VoxelGrid grid_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> is_candidate_;
+  std::vector<std::int32_t> voxel_plane_;  // plane index of each voxel, -1 for none
 };
 
 }  // namespace hope

@@ -87,6 +87,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.timings.refinement_ms = stage.lap();
 
   result.point_labels.assign(cloud.count, -1);
+  voxel_plane_.assign(grid_.numVoxels(), -1);
   for (std::size_t c : kept) {
     Plane plane = describePlane(grid_, aligned_, clusters[c]);
     // The plane fitted through the cluster's points must itself be within the accepted slope:
@@ -104,12 +105,14 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     plane.id = static_cast<int>(result.planes.size());
     plane.mean_normal_tilt = verdicts[c].mean_tilt;
     plane.group_angle = verdicts[c].group_angle;
-    for (std::uint32_t v : clusters[c]) {
-      for (const std::uint32_t* it = grid_.pointsBegin(v); it != grid_.pointsEnd(v); ++it) {
-        result.point_labels[*it] = plane.id;
-      }
-    }
+    for (std::uint32_t v : clusters[c]) voxel_plane_[v] = plane.id;
     result.planes.push_back(std::move(plane));
+  }
+  // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
+  // small enough to stay in cache), rather than scattered writes plane by plane.
+  const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
+  for (std::size_t i = 0; i < point_voxel.size(); ++i) {
+    if (point_voxel[i] >= 0) result.point_labels[i] = voxel_plane_[point_voxel[i]];
   }
   result.timings.description_ms = stage.lap();
   result.timings.total_ms = total.lap();

@@ -51,9 +51,12 @@ void finish(const GriddedCloud& cloud, const std::vector<int>& voxel_labels,
 
 }  // namespace
 
-GriddedCloud gridded(const std::vector<Eigen::Vector3f>& aligned_points, const Params& params) {
+GriddedCloud gridded(const pcl::PointCloud<pcl::PointXYZ>& z_up_cloud, const Params& params) {
   GriddedCloud out;
   const auto start = std::chrono::steady_clock::now();
+  std::vector<Eigen::Vector3f> aligned_points;
+  aligned_points.reserve(z_up_cloud.size());
+  for (const auto& p : z_up_cloud) aligned_points.emplace_back(p.x, p.y, p.z);
   VoxelGrid grid;
   grid.build(aligned_points, params.r_xy, params.r_z);
   out.voxels->resize(grid.numVoxels());

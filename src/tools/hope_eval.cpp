@@ -95,7 +95,7 @@ Run runHope(const Input& in, const hope::Params& params) {
 }
 
 Run runBaseline(const Input& in, const hope::Params& params, bool ransac) {
-  const hope::evaluation::GriddedCloud grid = hope::evaluation::gridded(in.points, params);
+  const hope::evaluation::GriddedCloud grid = hope::evaluation::gridded(in.cloud, params);
   const hope::evaluation::BaselineResult r =
       ransac ? hope::evaluation::ransacPlanes(grid, params)
              : hope::evaluation::regionGrowingPlanes(grid, params);

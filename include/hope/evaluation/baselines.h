@@ -15,13 +15,15 @@
 namespace hope {
 namespace evaluation {
 
-// The input of the baselines: hope's grid filter (r_xy, r_xy, r_z) applied to a z-up cloud.
+// The input of the baselines: hope's grid filter (r_xy, r_xy, r_z) applied to a z-up cloud,
+// timed from the same PCL cloud hope receives (the copy into a float array included, as hope's
+// alignment stage pays it too).
 struct GriddedCloud {
   pcl::PointCloud<pcl::PointXYZ>::Ptr voxels{new pcl::PointCloud<pcl::PointXYZ>};
   std::vector<std::int32_t> point_voxel;  // voxel of each input point, -1 for non-finite
   double grid_ms = 0;                     // time of the grid filter
 };
-GriddedCloud gridded(const std::vector<Eigen::Vector3f>& aligned_points, const Params& params);
+GriddedCloud gridded(const pcl::PointCloud<pcl::PointXYZ>& z_up_cloud, const Params& params);
 
 struct BaselineResult {
   std::vector<int> point_labels;  // plane of each input point, -1 for none

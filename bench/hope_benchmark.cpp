@@ -177,23 +177,23 @@ BENCHMARK(BM_PclNormals)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseReal
 // Tracking cost per frame with 50 planes: a scene of 50 planes (heights 0–2 m, boxes over
 // 10 × 10 m) seen in 100 frames with centimetre jitter, a few planes missing in each frame.
 // Arg 0: the paper's NNPM; arg 1: the improved tracker.
-const std::vector<std::vector<hope::Plane>>& trackingFrames() {
-  static const std::vector<std::vector<hope::Plane>> frames = [] {
+const std::vector<std::vector<hope::HorizontalPlane>>& trackingFrames() {
+  static const std::vector<std::vector<hope::HorizontalPlane>> frames = [] {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::normal_distribution<double> jitter(0.0, 0.01);
-    std::vector<hope::Plane> scene(50);
+    std::vector<hope::HorizontalPlane> scene(50);
     for (auto& p : scene) {
       p.height = 2.0 * u(rng);
       const double x = 10 * u(rng), y = 10 * u(rng), w = 0.2 + u(rng), d = 0.2 + u(rng);
       p.bbox = {x, y, x + w, y + d};
       p.num_points = 1000;
     }
-    std::vector<std::vector<hope::Plane>> out(100);
+    std::vector<std::vector<hope::HorizontalPlane>> out(100);
     for (auto& frame : out) {
       for (const auto& p : scene) {
         if (u(rng) < 0.05) continue;  // not seen in this frame
-        hope::Plane seen = p;
+        hope::HorizontalPlane seen = p;
         seen.height += jitter(rng);
         for (double& edge : seen.bbox) edge += jitter(rng);
         frame.push_back(seen);
@@ -211,7 +211,7 @@ void BM_Tracking50Planes(benchmark::State& state) {
   hope::PlaneTracker tracker(options);
   const auto& frames = trackingFrames();
   std::size_t f = 0;
-  std::vector<hope::Plane> planes;
+  std::vector<hope::HorizontalPlane> planes;
   for (auto _ : state) {
     planes = frames[f++ % frames.size()];  // a copy of 50 small structs: well under 1 µs
     benchmark::DoNotOptimize(tracker.update(planes, static_cast<double>(f)));

@@ -13,6 +13,8 @@ git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror
 echo "== catkin_lint"
 catkin_lint --strict -W2 --ignore package_path_name "$root"
 echo "== tests"
+# rostests start their own master; keep their logs inside the build tree.
+export ROS_HOSTNAME=localhost ROS_HOME="$root/build/ros_home" ROS_LOG_DIR="$root/build/ros_home/log"
 if [ ! -d ../shared/data ]; then
   echo "note: ../shared/data is absent; tests that need real data will be skipped"
 fi

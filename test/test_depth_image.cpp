@@ -61,7 +61,7 @@ TEST(DepthImage, RenderedDemoRoomFindsTheTableFloorAndStepsAndNoSlopedThing) {
         << "no plane at " << height << " m: " << describe(result);
   }
   // Every plane found is one of the true ones: the ramp, ball, cone and tube gave nothing.
-  for (const Plane& p : result.planes) {
+  for (const HorizontalPlane& p : result.planes) {
     bool known = false;
     for (double height : {0.0, 0.75, 0.45, 0.17, 0.34, 0.80})
       known = known || std::fabs(p.height - height) < 0.01;

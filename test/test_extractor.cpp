@@ -148,7 +148,7 @@ TEST(Extractor, PlaneDescriptionMatchesTheSheet) {
   addSheet(cloud, -0.3, 0.2, 0.9, 1.0, 0.42, kSpacing, 0);
   const Result result = extractZUp(cloud.cloud);
   ASSERT_EQ(result.planes.size(), 1u);
-  const Plane& p = result.planes[0];
+  const HorizontalPlane& p = result.planes[0];
   EXPECT_NEAR(p.height, 0.42, 1e-4);
   EXPECT_NEAR(p.bbox[0], -0.3, 1e-3);
   EXPECT_NEAR(p.bbox[1], 0.2, 1e-3);

@@ -1,4 +1,4 @@
-// Plane identities across frames: the paper's NNPM (Eq 11–14), the improved tracker, the
+// HorizontalPlane identities across frames: the paper's NNPM (Eq 11–14), the improved tracker, the
 // optimal assignment and the identity scores.
 #include <cmath>
 #include <fstream>
@@ -17,15 +17,15 @@
 namespace hope {
 namespace {
 
-Plane makePlane(double height, double x0, double y0, double x1, double y1) {
-  Plane p;
+HorizontalPlane makePlane(double height, double x0, double y0, double x1, double y1) {
+  HorizontalPlane p;
   p.height = height;
   p.bbox = {x0, y0, x1, y1};
   p.centroid = Eigen::Vector3d(0.5 * (x0 + x1), 0.5 * (y0 + y1), height);
   return p;
 }
 
-std::vector<int> idsOf(const std::vector<Plane>& planes) {
+std::vector<int> idsOf(const std::vector<HorizontalPlane>& planes) {
   std::vector<int> ids;
   for (const auto& p : planes) ids.push_back(p.id);
   return ids;
@@ -64,9 +64,11 @@ TEST(PlaneMatching, NormalizesJointlyAsEquations11To14) {
 }
 
 TEST(PlaneMatching, ClosestCurrentPlaneKeepsAContestedPreviousPlane) {
-  const std::vector<Plane> previous = {makePlane(0.0, 0, 0, 1, 1), makePlane(1.0, 0, 0, 1, 1)};
+  const std::vector<HorizontalPlane> previous = {makePlane(0.0, 0, 0, 1, 1),
+                                                 makePlane(1.0, 0, 0, 1, 1)};
   // Both current planes are nearest to previous[1]; the second is closer.
-  const std::vector<Plane> current = {makePlane(0.8, 0, 0, 1, 1), makePlane(0.95, 0, 0, 1, 1)};
+  const std::vector<HorizontalPlane> current = {makePlane(0.8, 0, 0, 1, 1),
+                                                makePlane(0.95, 0, 0, 1, 1)};
   const auto matches = matchNearestNeighbors(previous, current);
   ASSERT_EQ(matches.size(), 2u);
   EXPECT_EQ(matches[0].previous, -1);
@@ -100,14 +102,15 @@ TEST(OptimalAssignment, FindsTheMinimumTotalCost) {
 TEST(PlaneTracker, FirstFrameIdsFollowExtractionOrderAndPlanesKeepThem) {
   for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
     PlaneTracker tracker(mode(m));
-    std::vector<Plane> frame1 = {makePlane(0.0, -2, -2, 2, 2), makePlane(0.75, 0, 0, 1.2, 0.8),
-                                 makePlane(0.45, -1.5, 0, -1, 0.6)};
+    std::vector<HorizontalPlane> frame1 = {makePlane(0.0, -2, -2, 2, 2),
+                                           makePlane(0.75, 0, 0, 1.2, 0.8),
+                                           makePlane(0.45, -1.5, 0, -1, 0.6)};
     tracker.update(frame1, 0.0);
     EXPECT_EQ(idsOf(frame1), (std::vector<int>{0, 1, 2})) << toString(m);
     // Next frame: other extraction order, slightly shifted, one part of the floor unseen.
-    std::vector<Plane> frame2 = {makePlane(0.46, -1.48, 0.02, -1, 0.6),
-                                 makePlane(0.01, -2, -1.5, 1.9, 2),
-                                 makePlane(0.75, 0.05, 0, 1.2, 0.8)};
+    std::vector<HorizontalPlane> frame2 = {makePlane(0.46, -1.48, 0.02, -1, 0.6),
+                                           makePlane(0.01, -2, -1.5, 1.9, 2),
+                                           makePlane(0.75, 0.05, 0, 1.2, 0.8)};
     tracker.update(frame2, 0.033);
     EXPECT_EQ(idsOf(frame2), (std::vector<int>{2, 0, 1})) << toString(m);
     EXPECT_EQ(frame2[0].age, 2);
@@ -116,18 +119,18 @@ TEST(PlaneTracker, FirstFrameIdsFollowExtractionOrderAndPlanesKeepThem) {
 }
 
 TEST(PlaneTracker, ImprovedModeGivesAPlaneHiddenForThreeFramesItsIdBack) {
-  const Plane table = makePlane(0.75, 0, 0, 1.2, 0.8), floor = makePlane(0, -2, -2, 2, 2),
-              shelf = makePlane(1.2, -1, 1, -0.5, 1.3);
+  const HorizontalPlane table = makePlane(0.75, 0, 0, 1.2, 0.8), floor = makePlane(0, -2, -2, 2, 2),
+                        shelf = makePlane(1.2, -1, 1, -0.5, 1.3);
   PlaneTracker improved(mode(TrackingMode::kImproved)), paper(mode(TrackingMode::kPaper));
   for (PlaneTracker* tracker : {&improved, &paper}) {
-    std::vector<Plane> all = {floor, table, shelf};
+    std::vector<HorizontalPlane> all = {floor, table, shelf};
     tracker->update(all, 0);
     for (int hidden = 1; hidden <= 3; ++hidden) {
-      std::vector<Plane> without_table = {floor, shelf};
+      std::vector<HorizontalPlane> without_table = {floor, shelf};
       tracker->update(without_table, hidden);
       EXPECT_EQ(idsOf(without_table), (std::vector<int>{0, 2}));
     }
-    std::vector<Plane> back = {floor, table, shelf};
+    std::vector<HorizontalPlane> back = {floor, table, shelf};
     const auto events = tracker->update(back, 4);
     if (tracker == &improved) {
       EXPECT_EQ(idsOf(back), (std::vector<int>{0, 1, 2}));
@@ -146,9 +149,9 @@ TEST(PlaneTracker, ImprovedModeRejectsAHeightJumpThatPaperModeAccepts) {
   // anything (all features have zero or maximal normalized spread).
   for (auto m : {TrackingMode::kPaper, TrackingMode::kImproved}) {
     PlaneTracker tracker(mode(m));
-    std::vector<Plane> a = {makePlane(0.45, 0, 0, 1, 1)};
+    std::vector<HorizontalPlane> a = {makePlane(0.45, 0, 0, 1, 1)};
     tracker.update(a, 0);
-    std::vector<Plane> b = {makePlane(0.75, 0, 0, 1, 1)};
+    std::vector<HorizontalPlane> b = {makePlane(0.75, 0, 0, 1, 1)};
     tracker.update(b, 1);
     EXPECT_EQ(b[0].id, m == TrackingMode::kPaper ? 0 : 1) << toString(m);
   }
@@ -156,9 +159,10 @@ TEST(PlaneTracker, ImprovedModeRejectsAHeightJumpThatPaperModeAccepts) {
 
 TEST(PlaneTracker, MergeKeepsTheLargerPartsIdAndSplitNamesItsParent) {
   PlaneTracker tracker;
-  std::vector<Plane> parts = {makePlane(0.75, 0, 0, 0.7, 1), makePlane(0.75, 0.8, 0, 1.2, 1)};
+  std::vector<HorizontalPlane> parts = {makePlane(0.75, 0, 0, 0.7, 1),
+                                        makePlane(0.75, 0.8, 0, 1.2, 1)};
   tracker.update(parts, 0);
-  std::vector<Plane> merged = {makePlane(0.75, 0, 0, 1.2, 1)};
+  std::vector<HorizontalPlane> merged = {makePlane(0.75, 0, 0, 1.2, 1)};
   auto events = tracker.update(merged, 1);
   EXPECT_EQ(merged[0].id, 0) << "the part covering most of the merged plane keeps its id";
   bool merge_reported = false;
@@ -167,7 +171,8 @@ TEST(PlaneTracker, MergeKeepsTheLargerPartsIdAndSplitNamesItsParent) {
   EXPECT_TRUE(merge_reported);
   EXPECT_TRUE(tracker.lostPlanes().empty()) << "a merged plane is not remembered as lost";
 
-  std::vector<Plane> split = {makePlane(0.75, 0.7, 0, 1.2, 1), makePlane(0.75, 0, 0, 0.6, 1)};
+  std::vector<HorizontalPlane> split = {makePlane(0.75, 0.7, 0, 1.2, 1),
+                                        makePlane(0.75, 0, 0, 0.6, 1)};
   events = tracker.update(split, 4);
   // The larger part (the second, with the old box's corner) or the first keeps 0; the other
   // part is new and names 0 as its parent.
@@ -186,7 +191,7 @@ TEST(PlaneTracker, NeverGivesOneIdToTwoPlanesNorReusesAnEndedId) {
     int max_id = -1;
     for (int frame = 0; frame < 300; ++frame) {
       const int highest_before = max_id;
-      std::vector<Plane> planes;
+      std::vector<HorizontalPlane> planes;
       const int count = static_cast<int>(u(rng) * 12);
       for (int k = 0; k < count; ++k) {
         const double x = std::floor(u(rng) * 4), h = 0.1 * std::floor(u(rng) * 5);
@@ -245,7 +250,7 @@ TEST(IdentityScorer, CountsAccuracySwitchesAndFragmentations) {
 // Renders the tracking scene from two camera poses and returns the planes of each, with the
 // ground-truth surface of each plane.
 struct Seen {
-  std::vector<Plane> planes;
+  std::vector<HorizontalPlane> planes;
   std::vector<int> truth;
 };
 

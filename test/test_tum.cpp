@@ -45,7 +45,7 @@ TEST(TumFr1Desk, DeskTopsAt78cmWithVerticalNormalsAndTheFloorNearZero) {
 
   // The desk: every large plane between 0.6 and 1.0 m is a desk top at 0.78 ± 0.03 m.
   std::size_t desk_points = 0;
-  for (const Plane& p : result.planes) {
+  for (const HorizontalPlane& p : result.planes) {
     if (p.height < 0.6 || p.height > 1.0 || p.area < 0.3) continue;
     EXPECT_NEAR(p.height, 0.78, 0.03) << describe(result);
     EXPECT_LT(p.tilt, 3.0 * M_PI / 180.0) << describe(result);

@@ -29,7 +29,7 @@ struct StageTimings {
 };
 
 struct Result {
-  std::vector<Plane> planes;
+  std::vector<HorizontalPlane> planes;
   // One entry per input point, in input order: the index into `planes`, or -1 for points
   // on no plane (including non-finite ones).
   std::vector<std::int32_t> point_labels;

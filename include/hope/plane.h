@@ -9,7 +9,7 @@
 
 namespace hope {
 
-struct Plane {
+struct HorizontalPlane {
   // Extraction order within the frame (0, 1, …); the tracker replaces it with a persistent id.
   int id = 0;
   // Mean z of the plane's input points in the reference frame, metres.

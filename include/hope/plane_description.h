@@ -1,5 +1,5 @@
-// Plane description: turns a cluster that survived refinement into a Plane measured on the
-// full-resolution input points (not only voxel centroids).
+// HorizontalPlane description: turns a cluster that survived refinement into a HorizontalPlane
+// measured on the full-resolution input points (not only voxel centroids).
 #pragma once
 
 #include <cstdint>
@@ -14,8 +14,8 @@ namespace hope {
 
 // Height, bbox, centroid, least-squares normal, footprint area, counts and convex hull of the
 // input points in the cluster's voxels. `id` and the refinement angles are left to the caller.
-Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
-                    const std::vector<std::uint32_t>& members);
+HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+                              const std::vector<std::uint32_t>& members);
 
 // Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
 // than three distinct points come back as they are (deduplicated).

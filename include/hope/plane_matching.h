@@ -13,7 +13,7 @@ namespace hope {
 // (z_mean, x_min, y_min, x_max, y_max) of a plane in the reference frame.
 using PlaneFeatures = Eigen::Matrix<double, 5, 1>;
 
-PlaneFeatures planeFeatures(const Plane& plane);
+PlaneFeatures planeFeatures(const HorizontalPlane& plane);
 
 // Eq 11–14: each feature is normalized jointly over the previous and the current planes
 // (shared mean and population standard deviation), in place. A feature with zero spread
@@ -30,7 +30,7 @@ struct NearestNeighborMatch {
 // found with FLANN (OpenCV's cv::flann, as the authors did). When several current planes
 // pick the same previous plane, the closest keeps it and the others get -1 (new ids); ties
 // go to the earlier current plane.
-std::vector<NearestNeighborMatch> matchNearestNeighbors(const std::vector<Plane>& previous,
-                                                        const std::vector<Plane>& current);
+std::vector<NearestNeighborMatch> matchNearestNeighbors(
+    const std::vector<HorizontalPlane>& previous, const std::vector<HorizontalPlane>& current);
 
 }  // namespace hope

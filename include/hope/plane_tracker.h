@@ -69,24 +69,24 @@ class PlaneTracker {
   // Gives each plane of a new frame its persistent id, age and last_seen (in place) and
   // returns what happened to ids. Ids start at 0 in extraction order on the first frame and
   // are never reused. `stamp` is the frame time in seconds.
-  std::vector<TrackEvent> update(std::vector<Plane>& planes, double stamp);
+  std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp);
 
   // Forgets all planes; the next frame starts ids from where they were (never reused).
   void reset();
 
   // Planes that are remembered but were not seen in the last frame (improved mode), with the
   // frame stamp they were last seen at.
-  std::vector<Plane> lostPlanes() const;
+  std::vector<HorizontalPlane> lostPlanes() const;
   const TrackerOptions& options() const { return options_; }
 
  private:
   struct Track {
-    Plane plane;  // as last seen
+    HorizontalPlane plane;  // as last seen
     int missed = 0;
   };
-  std::vector<TrackEvent> updatePaper(std::vector<Plane>& planes, double stamp);
-  std::vector<TrackEvent> updateImproved(std::vector<Plane>& planes, double stamp);
-  void startTrack(Plane& plane, double stamp, std::vector<TrackEvent>& events);
+  std::vector<TrackEvent> updatePaper(std::vector<HorizontalPlane>& planes, double stamp);
+  std::vector<TrackEvent> updateImproved(std::vector<HorizontalPlane>& planes, double stamp);
+  void startTrack(HorizontalPlane& plane, double stamp, std::vector<TrackEvent>& events);
 
   TrackerOptions options_;
   std::vector<Track> tracks_;

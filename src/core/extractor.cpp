@@ -89,7 +89,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.point_labels.assign(cloud.count, -1);
   voxel_plane_.assign(grid_.numVoxels(), -1);
   for (std::size_t c : kept) {
-    Plane plane = describePlane(grid_, aligned_, clusters[c]);
+    HorizontalPlane plane = describePlane(grid_, aligned_, clusters[c]);
     // The plane fitted through the cluster's points must itself be within the accepted slope:
     // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
     // level strips), and the fit over the whole strip sees what the normals miss.

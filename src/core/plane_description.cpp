@@ -36,9 +36,9 @@ std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
-Plane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
-                    const std::vector<std::uint32_t>& members) {
-  Plane plane;
+HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+                              const std::vector<std::uint32_t>& members) {
+  HorizontalPlane plane;
   plane.num_voxels = members.size();
   if (members.empty()) return plane;
 

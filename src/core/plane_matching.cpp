@@ -6,7 +6,7 @@
 
 namespace hope {
 
-PlaneFeatures planeFeatures(const Plane& plane) {
+PlaneFeatures planeFeatures(const HorizontalPlane& plane) {
   PlaneFeatures f;
   f << plane.height, plane.bbox[0], plane.bbox[1], plane.bbox[2], plane.bbox[3];
   return f;
@@ -33,8 +33,8 @@ void normalizeJointly(std::vector<PlaneFeatures>& previous, std::vector<PlaneFea
   for (auto& f : current) f = (f - mean).cwiseProduct(inverse_std);   // Eq 14
 }
 
-std::vector<NearestNeighborMatch> matchNearestNeighbors(const std::vector<Plane>& previous,
-                                                        const std::vector<Plane>& current) {
+std::vector<NearestNeighborMatch> matchNearestNeighbors(
+    const std::vector<HorizontalPlane>& previous, const std::vector<HorizontalPlane>& current) {
   std::vector<NearestNeighborMatch> matches(current.size());
   if (previous.empty() || current.empty()) return matches;
 

@@ -96,8 +96,8 @@ double sameSurfaceHeight(const TrackerOptions& o) { return 0.5 * o.height_scale;
 // the other, so a plane seen only in part still prefers its whole over a neighbour. A tiny
 // bonus for age lets the older id win exact ties. Pairs beyond the gates cost kForbidden.
 constexpr double kIouWeight = 0.8;
-double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d& shift,
-                   const TrackerOptions& o) {
+double pairingCost(const HorizontalPlane& before, const HorizontalPlane& now,
+                   const Eigen::Vector3d& shift, const TrackerOptions& o) {
   const std::array<double, 4> moved = {before.bbox[0] + shift.x(), before.bbox[1] + shift.y(),
                                        before.bbox[2] + shift.x(), before.bbox[3] + shift.y()};
   const double dz = std::fabs(now.height - before.height - shift.z());
@@ -114,7 +114,8 @@ double pairingCost(const Plane& before, const Plane& now, const Eigen::Vector3d&
 }
 
 template <class Track>
-Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks, const std::vector<Plane>& planes,
+Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks,
+                             const std::vector<HorizontalPlane>& planes,
                              const Eigen::Vector3d& shift, const TrackerOptions& o) {
   Eigen::MatrixXd cost(tracks.size(), planes.size());
   for (std::size_t t = 0; t < tracks.size(); ++t)
@@ -141,12 +142,12 @@ double weightedMedian(std::vector<std::pair<double, double>>& samples) {
 // that big planes outvote flickering fragments; false when fewer than 3 pairs make it
 // unreliable.
 template <class Track>
-bool medianShift(const std::vector<Track>& tracks, const std::vector<Plane>& planes,
+bool medianShift(const std::vector<Track>& tracks, const std::vector<HorizontalPlane>& planes,
                  const std::vector<int>& assigned, Eigen::Vector3d& shift) {
   std::vector<std::pair<double, double>> dx, dy, dz;
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (assigned[t] < 0 || tracks[t].missed > 0) continue;
-    const Plane& now = planes[assigned[t]];
+    const HorizontalPlane& now = planes[assigned[t]];
     const auto& a = tracks[t].plane.bbox;
     const auto& b = now.bbox;
     const double weight = static_cast<double>(std::max<std::size_t>(now.num_points, 1));
@@ -231,28 +232,30 @@ PlaneTracker::PlaneTracker(const TrackerOptions& options) : options_(options) {
 
 void PlaneTracker::reset() { tracks_.clear(); }
 
-std::vector<Plane> PlaneTracker::lostPlanes() const {
-  std::vector<Plane> lost;
+std::vector<HorizontalPlane> PlaneTracker::lostPlanes() const {
+  std::vector<HorizontalPlane> lost;
   for (const Track& t : tracks_)
     if (t.missed > 0) lost.push_back(t.plane);
   return lost;
 }
 
-std::vector<TrackEvent> PlaneTracker::update(std::vector<Plane>& planes, double stamp) {
+std::vector<TrackEvent> PlaneTracker::update(std::vector<HorizontalPlane>& planes, double stamp) {
   return options_.mode == TrackingMode::kPaper ? updatePaper(planes, stamp)
                                                : updateImproved(planes, stamp);
 }
 
-void PlaneTracker::startTrack(Plane& plane, double stamp, std::vector<TrackEvent>& events) {
+void PlaneTracker::startTrack(HorizontalPlane& plane, double stamp,
+                              std::vector<TrackEvent>& events) {
   plane.id = next_id_++;
   plane.age = 1;
   plane.last_seen = stamp;
   events.push_back({TrackEvent::Kind::kNew, plane.id});
 }
 
-std::vector<TrackEvent> PlaneTracker::updatePaper(std::vector<Plane>& planes, double stamp) {
+std::vector<TrackEvent> PlaneTracker::updatePaper(std::vector<HorizontalPlane>& planes,
+                                                  double stamp) {
   std::vector<TrackEvent> events;
-  std::vector<Plane> previous;
+  std::vector<HorizontalPlane> previous;
   for (const Track& t : tracks_) previous.push_back(t.plane);
   const std::vector<NearestNeighborMatch> matches = matchNearestNeighbors(previous, planes);
   std::vector<char> continued(previous.size(), 0);
@@ -272,11 +275,12 @@ std::vector<TrackEvent> PlaneTracker::updatePaper(std::vector<Plane>& planes, do
     if (!continued[i]) events.push_back({TrackEvent::Kind::kEnded, previous[i].id});
   }
   tracks_.clear();
-  for (const Plane& p : planes) tracks_.push_back({p, 0});
+  for (const HorizontalPlane& p : planes) tracks_.push_back({p, 0});
   return events;
 }
 
-std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes, double stamp) {
+std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane>& planes,
+                                                     double stamp) {
   const TrackerOptions& o = options_;
   std::vector<TrackEvent> events;
   const int num_tracks = static_cast<int>(tracks_.size());
@@ -306,7 +310,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
   }
   std::vector<char> matched(num_tracks, 0);
   for (int p = 0; p < num_planes; ++p) {
-    Plane& plane = planes[p];
+    HorizontalPlane& plane = planes[p];
     plane.split_from = -1;
     const int t = track_of_plane[p];
     if (t < 0) continue;
@@ -325,7 +329,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
     if (track_of_plane[p] >= 0) continue;
     startTrack(planes[p], stamp, events);
     for (int t = 0; t < num_tracks; ++t) {
-      const Plane& before = tracks_[t].plane;
+      const HorizontalPlane& before = tracks_[t].plane;
       if (matched[t] && std::fabs(before.height - planes[p].height) <= sameSurfaceHeight(o) &&
           shareInside(planes[p].bbox, before.bbox) >= o.merge_split_overlap) {
         planes[p].split_from = before.id;
@@ -344,7 +348,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
     Track track = tracks_[t];
     int merged_into = -1;
     if (track.missed == 0) {
-      for (const Plane& now : planes) {
+      for (const HorizontalPlane& now : planes) {
         if (now.id != track.plane.id &&
             std::fabs(now.height - track.plane.height) <= sameSurfaceHeight(o) &&
             shareInside(track.plane.bbox, now.bbox) >= o.merge_split_overlap) {
@@ -368,7 +372,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<Plane>& planes,
     if (track.missed == 1) events.push_back({TrackEvent::Kind::kLost, track.plane.id});
     next.push_back(std::move(track));
   }
-  for (const Plane& p : planes) next.push_back({p, 0});
+  for (const HorizontalPlane& p : planes) next.push_back({p, 0});
   tracks_ = std::move(next);
   return events;
 }

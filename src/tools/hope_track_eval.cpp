@@ -33,7 +33,7 @@ Defaults: 90 frames, 640 px wide, the extractor's default r_xy and r_z.
 )";
 
 // The head of docs/tracking.md: what is measured and how.
-const char* kPreamble = R"(# Plane identities across frames: paper mode vs improved mode
+const char* kPreamble = R"(# HorizontalPlane identities across frames: paper mode vs improved mode
 
 Made by `bash scripts/evaluate_tracking.sh` (`hope_track_eval --markdown docs/tracking.md`);
 every figure below comes from that run. Do not edit by hand.
@@ -73,7 +73,7 @@ scene, merges and splits reported.
 )";
 
 struct FramePlanes {
-  std::vector<hope::Plane> planes;
+  std::vector<hope::HorizontalPlane> planes;
   std::vector<int> truth;
   std::vector<std::size_t> sizes;
   std::set<int> visible;
@@ -111,7 +111,7 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
   double seconds = 0;
   std::size_t planes = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
-    std::vector<hope::Plane> planes_now = frames[f].planes;
+    std::vector<hope::HorizontalPlane> planes_now = frames[f].planes;
     const auto start = std::chrono::steady_clock::now();
     tracker.update(planes_now, stamps[f]);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -23,7 +23,7 @@ cv::Vec3b vocColor(int index) {
 
 namespace {
 
-std::string planeText(const Plane& plane) {
+std::string planeText(const HorizontalPlane& plane) {
   char text[64];
   std::snprintf(text, sizeof(text), "%d: %.2fm", plane.id, plane.height);
   return text;
@@ -128,7 +128,7 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
     if (label >= 0) color = tint(color, vocColor(result.planes[label].id + 1));
     image.at<cv::Vec3b>(px) = color;
   }
-  for (const Plane& plane : result.planes) {
+  for (const HorizontalPlane& plane : result.planes) {
     std::vector<cv::Point> polygon;
     for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x(), v.y()));
     if (polygon.size() >= 2) {

@@ -43,7 +43,7 @@ void printTable(std::ostream& out, const Result& result) {
   std::snprintf(line, sizeof(line), "%4s %9s %9s %9s %8s  %s\n", "id", "height_m", "area_m2",
                 "points", "tilt_deg", "bbox x_min y_min x_max y_max (m)");
   out << line;
-  for (const Plane& p : result.planes) {
+  for (const HorizontalPlane& p : result.planes) {
     std::snprintf(line, sizeof(line), "%4d %9.3f %9.3f %9zu %8.2f  %.3f %.3f %.3f %.3f\n", p.id,
                   p.height, p.area, p.num_points, p.tilt * 180.0 / M_PI, p.bbox[0], p.bbox[1],
                   p.bbox[2], p.bbox[3]);
@@ -62,7 +62,7 @@ void printTable(std::ostream& out, const Result& result) {
   out.unsetf(std::ios::floatfield);
 }
 
-void writePlaneJson(std::ostream& out, const Plane& p) {
+void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
   out << "{\"id\": " << p.id << ", \"height\": " << number(p.height) << ", \"bbox\": ["
       << number(p.bbox[0]) << ", " << number(p.bbox[1]) << ", " << number(p.bbox[2]) << ", "
       << number(p.bbox[3]) << "]"

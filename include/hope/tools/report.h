@@ -16,8 +16,8 @@ void printTable(std::ostream& out, const Result& result);
 // …}], "stats": {…}, "timings_ms": {…}}
 void writeJson(std::ostream& out, const Result& result);
 
-// One plane as a JSON object on one line: every field of hope::Plane.
-void writePlaneJson(std::ostream& out, const Plane& plane);
+// One plane as a JSON object on one line: every field of hope::HorizontalPlane.
+void writePlaneJson(std::ostream& out, const HorizontalPlane& plane);
 
 // A string as a JSON string literal (quotes added, control characters replaced).
 std::string jsonString(const std::string& text);

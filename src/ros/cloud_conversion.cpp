@@ -1,0 +1,196 @@
+#include "cloud_conversion.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include <geometry_msgs/Point32.h>
+
+#include "hope/tools/overlay.h"
+
+namespace hope_ros {
+
+namespace {
+
+const sensor_msgs::PointField* field(const sensor_msgs::PointCloud2& cloud, const char* name) {
+  for (const auto& f : cloud.fields)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+std_msgs::ColorRGBA colorOf(int id, float alpha) {
+  const cv::Vec3b bgr = hope::tools::vocColor(id % 255 + 1);
+  std_msgs::ColorRGBA c;
+  c.r = bgr[2] / 255.f;
+  c.g = bgr[1] / 255.f;
+  c.b = bgr[0] / 255.f;
+  c.a = alpha;
+  return c;
+}
+
+geometry_msgs::Point point(const Eigen::Vector3d& p) {
+  geometry_msgs::Point q;
+  q.x = p.x();
+  q.y = p.y();
+  q.z = p.z();
+  return q;
+}
+
+}  // namespace
+
+std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view) {
+  const char* names[3] = {"x", "y", "z"};
+  std::size_t offsets[3];
+  for (int k = 0; k < 3; ++k) {
+    const sensor_msgs::PointField* f = field(cloud, names[k]);
+    if (!f) return std::string("the cloud has no '") + names[k] + "' field";
+    if (f->datatype != sensor_msgs::PointField::FLOAT32 || f->count != 1) {
+      return std::string("field '") + names[k] + "' is not a single float32 (datatype " +
+             std::to_string(f->datatype) + ")";
+    }
+    if (f->offset + 4 > cloud.point_step) {
+      return std::string("field '") + names[k] + "' lies outside point_step";
+    }
+    offsets[k] = f->offset;
+  }
+  if (cloud.is_bigendian) return "big-endian clouds are not supported";
+  const std::size_t count = static_cast<std::size_t>(cloud.width) * cloud.height;
+  if (count > 0 && cloud.row_step != cloud.width * cloud.point_step) {
+    return "rows are padded (row_step " + std::to_string(cloud.row_step) +
+           " != width · point_step)";
+  }
+  if (cloud.data.size() < count * cloud.point_step) {
+    return "the data holds " + std::to_string(cloud.data.size()) + " bytes, the header says " +
+           std::to_string(count * cloud.point_step);
+  }
+  view = hope::PointsView();
+  view.data = cloud.data.empty() ? nullptr : cloud.data.data();
+  view.count = count;
+  view.stride = cloud.point_step;
+  view.x_offset = offsets[0];
+  view.y_offset = offsets[1];
+  view.z_offset = offsets[2];
+  view.width = cloud.width;
+  view.height = cloud.height;
+  return "";
+}
+
+hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header) {
+  hope::PlaneArray msg;
+  msg.header = header;
+  msg.processing_ms = result.timings.total_ms;
+  for (const hope::HorizontalPlane& p : result.planes) {
+    hope::Plane m;
+    m.id = p.id;
+    m.age = p.age;
+    m.last_seen = header.stamp;
+    m.split_from = p.split_from;
+    m.height = p.height;
+    m.x_min = p.bbox[0];
+    m.y_min = p.bbox[1];
+    m.x_max = p.bbox[2];
+    m.y_max = p.bbox[3];
+    m.centroid = point(p.centroid);
+    m.normal.x = p.normal.x();
+    m.normal.y = p.normal.y();
+    m.normal.z = p.normal.z();
+    m.tilt = p.tilt;
+    m.area = p.area;
+    m.num_points = static_cast<std::uint32_t>(p.num_points);
+    for (const auto& h : p.hull) {
+      geometry_msgs::Point32 q;
+      q.x = static_cast<float>(h.x());
+      q.y = static_cast<float>(h.y());
+      q.z = static_cast<float>(h.z());
+      m.hull.points.push_back(q);
+    }
+    msg.planes.push_back(m);
+  }
+  return msg;
+}
+
+sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligned,
+                                      const hope::Result& result, const hope::PointsView& input,
+                                      const std_msgs::Header& header) {
+  sensor_msgs::PointCloud2 out;
+  out.header = header;
+  out.width = input.width;
+  out.height = input.height;
+  const char* names[5] = {"x", "y", "z", "rgb", "label"};
+  for (std::uint32_t k = 0; k < 5; ++k) {
+    sensor_msgs::PointField f;
+    f.name = names[k];
+    f.offset = 4 * k;
+    f.datatype = k == 4 ? sensor_msgs::PointField::UINT32 : sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    out.fields.push_back(f);
+  }
+  out.point_step = 20;
+  out.row_step = out.point_step * out.width;
+  out.is_dense = false;
+  out.data.resize(static_cast<std::size_t>(out.point_step) * aligned.size());
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    std::uint8_t* p = out.data.data() + i * out.point_step;
+    std::memcpy(p, aligned[i].data(), 12);
+    const int index = i < result.point_labels.size() ? result.point_labels[i] : -1;
+    const int id = index >= 0 ? result.planes[index].id : -1;
+    const cv::Vec3b bgr = id >= 0 ? hope::tools::vocColor(id % 255 + 1) : cv::Vec3b(128, 128, 128);
+    const std::uint32_t rgb = (std::uint32_t(bgr[2]) << 16) | (std::uint32_t(bgr[1]) << 8) | bgr[0];
+    std::memcpy(p + 12, &rgb, 4);
+    const std::uint32_t label = id >= 0 ? static_cast<std::uint32_t>(id + 1) : 0u;
+    std::memcpy(p + 16, &label, 4);
+  }
+  return out;
+}
+
+visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
+                                             const std_msgs::Header& header) {
+  visualization_msgs::MarkerArray markers;
+  visualization_msgs::Marker clear;
+  clear.header = header;
+  clear.ns = "hope";
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  markers.markers.push_back(clear);
+  for (const hope::HorizontalPlane& p : result.planes) {
+    visualization_msgs::Marker base;
+    base.header = header;
+    base.ns = "hope";
+    base.action = visualization_msgs::Marker::ADD;
+    base.pose.orientation.w = 1.0;
+    if (p.hull.size() >= 3) {
+      visualization_msgs::Marker fill = base;
+      fill.id = 3 * p.id;
+      fill.type = visualization_msgs::Marker::TRIANGLE_LIST;
+      fill.scale.x = fill.scale.y = fill.scale.z = 1.0;
+      fill.color = colorOf(p.id, 0.5f);
+      for (std::size_t k = 1; k + 1 < p.hull.size(); ++k) {  // a fan over the convex hull
+        fill.points.push_back(point(p.hull[0]));
+        fill.points.push_back(point(p.hull[k]));
+        fill.points.push_back(point(p.hull[k + 1]));
+      }
+      markers.markers.push_back(fill);
+      visualization_msgs::Marker outline = base;
+      outline.id = 3 * p.id + 1;
+      outline.type = visualization_msgs::Marker::LINE_STRIP;
+      outline.scale.x = 0.01;
+      outline.color = colorOf(p.id, 1.0f);
+      for (const auto& h : p.hull) outline.points.push_back(point(h));
+      outline.points.push_back(point(p.hull.front()));
+      markers.markers.push_back(outline);
+    }
+    visualization_msgs::Marker text = base;
+    text.id = 3 * p.id + 2;
+    text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    text.pose.position = point(p.centroid + Eigen::Vector3d(0, 0, 0.05));
+    text.scale.z = 0.08;
+    text.color = colorOf(p.id, 1.0f);
+    char label[64];
+    std::snprintf(label, sizeof(label), "%d \xC2\xB7 %.2f m", p.id, p.height);
+    text.text = label;
+    markers.markers.push_back(text);
+  }
+  return markers;
+}
+
+}  // namespace hope_ros

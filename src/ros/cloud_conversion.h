@@ -1,0 +1,35 @@
+// Between ROS messages and the ROS-free core: a PointCloud2 read in place as a hope::PointsView,
+// and hope's results as messages.
+#pragma once
+
+#include <string>
+
+#include <geometry_msgs/Quaternion.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "hope/PlaneArray.h"
+#include "hope/extractor.h"
+
+namespace hope_ros {
+
+// Reads the cloud's x, y, z in place (no copy). Returns an empty string, or why the cloud
+// cannot be read: missing or non-float32 x/y/z fields, big-endian data, padded rows, a data
+// buffer shorter than the header says.
+std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view);
+
+// The planes as a message, in `frame` with the cloud's stamp.
+hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);
+
+// Points in the reference frame with x y z (float32), rgb (float32, colour of the plane's id,
+// grey for none) and label (uint32: plane id + 1, 0 for none), same layout as the input.
+sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligned,
+                                      const hope::Result& result, const hope::PointsView& input,
+                                      const std_msgs::Header& header);
+
+// For RViz: a DELETEALL first (no stale markers), then per plane its hull filled and outlined
+// in its id's Pascal VOC colour and a text "id · height".
+visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
+                                             const std_msgs::Header& header);
+
+}  // namespace hope_ros

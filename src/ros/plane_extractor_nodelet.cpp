@@ -1,0 +1,417 @@
+// The hope nodelet: a thin adapter between ROS topics and the ROS-free core. Point cloud (and
+// IMU or tf) in; PlaneArray, labeled cloud and RViz markers out, in the reference frame.
+#include <atomic>
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <mutex>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <visualization_msgs/MarkerArray.h>
+#include <boost/thread/recursive_mutex.hpp>
+#include <pluginlib/class_list_macros.hpp>
+
+#include "cloud_conversion.h"
+#include "hope/HopeConfig.h"
+#include "hope/PlaneArray.h"
+#include "hope/extractor.h"
+#include "hope/plane_tracker.h"
+
+namespace hope_ros {
+
+using CloudImuPolicy =
+    message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, sensor_msgs::Imu>;
+
+class PlaneExtractorNodelet : public nodelet::Nodelet {
+ public:
+  ~PlaneExtractorNodelet() override = default;
+
+ private:
+  void onInit() override;
+  void connectionChanged();
+  void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onCloudAndImu(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                     const sensor_msgs::ImuConstPtr& imu);
+  void process(const sensor_msgs::PointCloud2ConstPtr& cloud, const hope::Orientation& orientation,
+               const std::string& reference_frame);
+  bool orientationFromImu(const sensor_msgs::Imu& imu, const std::string& cloud_frame,
+                          hope::Orientation& orientation);
+  void reconfigure(hope::HopeConfig& config, uint32_t level);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  // Parameters fixed at start-up.
+  std::string source_;           // imu, tf, fixed or none
+  std::string reference_frame_;  // output frame (tf: looked up; imu/fixed: broadcast)
+  double tf_timeout_ = 0.1;
+  bool lazy_ = true;
+  int gravity_window_ = 10;
+  hope::Orientation fixed_ = hope::Orientation::identity();
+
+  ros::Publisher planes_pub_, cloud_pub_, markers_pub_;
+  ros::Subscriber cloud_sub_;
+  std::unique_ptr<message_filters::Subscriber<sensor_msgs::PointCloud2>> sync_cloud_sub_;
+  std::unique_ptr<message_filters::Subscriber<sensor_msgs::Imu>> sync_imu_sub_;
+  std::unique_ptr<message_filters::Synchronizer<CloudImuPolicy>> sync_;
+  std::mutex connection_mutex_;
+  bool subscribed_ = false;
+
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+
+  // Live-tunable state: dynamic_reconfigure writes pending_*, the processing thread swaps them
+  // in at the start of the next frame, so a frame never sees half a change.
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<hope::HopeConfig>> reconfigure_server_;
+  std::mutex pending_mutex_;
+  hope::Params pending_params_;
+  hope::TrackerOptions pending_tracker_;
+  bool pending_ = false;
+
+  std::mutex processing_mutex_;  // one frame at a time
+  std::unique_ptr<hope::Extractor> extractor_;
+  std::unique_ptr<hope::PlaneTracker> tracker_;
+  std::deque<Eigen::Vector3d> recent_gravity_;
+
+  // Diagnostics.
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  std::mutex stats_mutex_;
+  std::size_t frames_ = 0, rejected_ = 0, dropped_ = 0;
+  double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
+  std::uint32_t last_seq_ = 0;
+  bool have_seq_ = false;
+  std::string last_problem_;
+  ros::WallTimer diagnostics_timer_;
+};
+
+void PlaneExtractorNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  pnh.param<std::string>("orientation_source", source_, "imu");
+  pnh.param<std::string>("reference_frame", reference_frame_, "");
+  pnh.param("tf_timeout", tf_timeout_, 0.1);
+  pnh.param("lazy", lazy_, true);
+  pnh.param("gravity_window", gravity_window_, 10);
+  if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "none") {
+    NODELET_ERROR("orientation_source '%s' is not one of imu, tf, fixed, none; using none",
+                  source_.c_str());
+    source_ = "none";
+  }
+  if (source_ == "tf" && reference_frame_.empty()) {
+    NODELET_ERROR(
+        "orientation_source tf needs ~reference_frame (e.g. base_link or odom); "
+        "using none");
+    source_ = "none";
+  }
+  if ((source_ == "imu" || source_ == "fixed") && reference_frame_.empty()) {
+    reference_frame_ = "hope_gravity";  // broadcast: z up, origin at the sensor
+  }
+  if (source_ == "fixed") {
+    std::vector<double> q, rpy;
+    try {
+      if (pnh.getParam("fixed_quaternion", q) && q.size() == 4) {
+        fixed_ = hope::Orientation::fromQuaternion(q[0], q[1], q[2], q[3]);
+      } else if (pnh.getParam("fixed_rpy", rpy) && rpy.size() == 3) {
+        fixed_ = hope::Orientation::fromRollPitchYaw(rpy[0], rpy[1], rpy[2]);
+      } else {
+        NODELET_ERROR(
+            "orientation_source fixed needs ~fixed_quaternion [x, y, z, w] or "
+            "~fixed_rpy [roll, pitch, yaw]; using identity");
+      }
+    } catch (const std::exception& e) {
+      NODELET_ERROR("bad fixed orientation: %s; using identity", e.what());
+    }
+  }
+
+  hope::Params params;
+  pnh.param("r_xy", params.r_xy, params.r_xy);
+  pnh.param("r_z", params.r_z, params.r_z);
+  pnh.param("min_area", params.min_area, params.min_area);
+  hope::TrackerOptions tracker;
+  std::string mode = "improved";
+  pnh.param<std::string>("tracking_mode", mode, mode);
+  try {
+    tracker.mode = hope::trackingModeFromString(mode);
+    extractor_ = std::make_unique<hope::Extractor>(params);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("%s; using the defaults", e.what());
+    extractor_ = std::make_unique<hope::Extractor>();
+  }
+  tracker_ = std::make_unique<hope::PlaneTracker>(tracker);
+
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  tf_broadcaster_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+
+  reconfigure_server_ =
+      std::make_unique<dynamic_reconfigure::Server<hope::HopeConfig>>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback(boost::bind(&PlaneExtractorNodelet::reconfigure, this,
+                                               boost::placeholders::_1, boost::placeholders::_2));
+
+  diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+  diagnostics_->setHardwareID("none");
+  diagnostics_->add("processing", this, &PlaneExtractorNodelet::diagnose);
+  diagnostics_timer_ = nh.createWallTimer(
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+
+  const ros::SubscriberStatusCallback changed =
+      boost::bind(&PlaneExtractorNodelet::connectionChanged, this);
+  {
+    // Held while advertising: a listener connecting now waits until the publishers exist.
+    std::lock_guard<std::mutex> lock(connection_mutex_);
+    planes_pub_ = pnh.advertise<hope::PlaneArray>("planes", 1, changed, changed);
+    cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 1, changed, changed);
+    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, changed, changed);
+  }
+  NODELET_INFO("hope: orientation from %s, reference frame '%s', r_xy %.3f, r_z %.3f, %s",
+               source_.c_str(), reference_frame_.c_str(), params.r_xy, params.r_z,
+               lazy_ ? "subscribing while outputs have listeners" : "always subscribed");
+  if (!lazy_) connectionChanged();
+}
+
+void PlaneExtractorNodelet::connectionChanged() {
+  std::lock_guard<std::mutex> lock(connection_mutex_);
+  const bool wanted = !lazy_ || planes_pub_.getNumSubscribers() > 0 ||
+                      cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0;
+  if (wanted == subscribed_) return;
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  if (wanted) {
+    if (source_ == "imu") {
+      sync_cloud_sub_ =
+          std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(pnh, "cloud", 1);
+      sync_imu_sub_ =
+          std::make_unique<message_filters::Subscriber<sensor_msgs::Imu>>(pnh, "imu", 50);
+      sync_ = std::make_unique<message_filters::Synchronizer<CloudImuPolicy>>(
+          CloudImuPolicy(10), *sync_cloud_sub_, *sync_imu_sub_);
+      sync_->registerCallback(boost::bind(&PlaneExtractorNodelet::onCloudAndImu, this,
+                                          boost::placeholders::_1, boost::placeholders::_2));
+    } else {
+      cloud_sub_ = pnh.subscribe("cloud", 1, &PlaneExtractorNodelet::onCloud, this);
+    }
+  } else {
+    sync_.reset();
+    sync_cloud_sub_.reset();
+    sync_imu_sub_.reset();
+    cloud_sub_.shutdown();
+  }
+  subscribed_ = wanted;
+}
+
+void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  if (source_ == "none") {
+    process(cloud, hope::Orientation::identity(), cloud->header.frame_id);
+    return;
+  }
+  if (source_ == "fixed") {
+    process(cloud, fixed_, reference_frame_);
+    return;
+  }
+  // tf: the cloud's frame in the reference frame at the cloud's stamp, translation included.
+  try {
+    const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
+        reference_frame_, cloud->header.frame_id, cloud->header.stamp, ros::Duration(tf_timeout_));
+    process(cloud, hope::Orientation::fromTransform(tf2::transformToEigen(t)), reference_frame_);
+  } catch (const std::exception& e) {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    ++rejected_;
+    last_problem_ = std::string("no transform: ") + e.what();
+    NODELET_WARN_THROTTLE(5.0,
+                          "hope: skipping a cloud: no transform from '%s' to '%s' at %.3f "
+                          "within %.2f s (%s)",
+                          cloud->header.frame_id.c_str(), reference_frame_.c_str(),
+                          cloud->header.stamp.toSec(), tf_timeout_, e.what());
+  }
+}
+
+bool PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::Imu& imu,
+                                               const std::string& cloud_frame,
+                                               hope::Orientation& orientation) {
+  // The fixed rotation from the cloud's frame into the IMU's frame (identity when they agree).
+  Eigen::Matrix3d imu_from_cloud = Eigen::Matrix3d::Identity();
+  const std::string imu_frame = imu.header.frame_id.empty() ? cloud_frame : imu.header.frame_id;
+  if (imu_frame != cloud_frame) {
+    const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
+        imu_frame, cloud_frame, ros::Time(0), ros::Duration(tf_timeout_));
+    imu_from_cloud = tf2::transformToEigen(t).rotation();
+  }
+  const auto& q = imu.orientation;
+  const bool has_orientation = imu.orientation_covariance[0] != -1.0;
+  if (has_orientation) {
+    const hope::Orientation world_from_imu = hope::Orientation::fromQuaternion(q.x, q.y, q.z, q.w);
+    Eigen::Isometry3d world_from_cloud = Eigen::Isometry3d::Identity();
+    world_from_cloud.linear() = world_from_imu.sensorToReference().rotation() * imu_from_cloud;
+    orientation = hope::Orientation::fromTransform(world_from_cloud);
+    return true;
+  }
+  // Gravity only: the specific force points up at rest; average recent samples so that the
+  // camera's own accelerations do not tilt the reference frame from frame to frame.
+  const Eigen::Vector3d a(imu.linear_acceleration.x, imu.linear_acceleration.y,
+                          imu.linear_acceleration.z);
+  if (!a.allFinite() || a.norm() < 1.0 || a.norm() > 30.0) {
+    throw std::invalid_argument("IMU linear_acceleration (" + std::to_string(a.norm()) +
+                                " m/s²) is not gravity; is it in m/s²?");
+  }
+  recent_gravity_.push_back(imu_from_cloud.transpose() * a);
+  while (static_cast<int>(recent_gravity_.size()) > std::max(gravity_window_, 1)) {
+    recent_gravity_.pop_front();
+  }
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& g : recent_gravity_) mean += g;
+  orientation = hope::Orientation::fromGravity(mean.x(), mean.y(), mean.z());
+  return true;
+}
+
+void PlaneExtractorNodelet::onCloudAndImu(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                          const sensor_msgs::ImuConstPtr& imu) {
+  hope::Orientation orientation = hope::Orientation::identity();
+  try {
+    std::lock_guard<std::mutex> lock(processing_mutex_);  // recent_gravity_
+    orientationFromImu(*imu, cloud->header.frame_id, orientation);
+  } catch (const std::exception& e) {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    ++rejected_;
+    last_problem_ = std::string("bad IMU message: ") + e.what();
+    NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud: bad IMU message: %s", e.what());
+    return;
+  }
+  // Broadcast the gravity-aligned frame so RViz can show the outputs with the camera.
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(orientation.sensorToReference());
+  t.header.stamp = cloud->header.stamp;
+  t.header.frame_id = reference_frame_;
+  t.child_frame_id = cloud->header.frame_id;
+  tf_broadcaster_->sendTransform(t);
+  process(cloud, orientation, reference_frame_);
+}
+
+void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                    const hope::Orientation& orientation,
+                                    const std::string& reference_frame) {
+  std::lock_guard<std::mutex> lock(processing_mutex_);
+  {
+    std::lock_guard<std::mutex> pending_lock(pending_mutex_);
+    if (pending_) {  // swap in the new parameters between frames
+      extractor_ = std::make_unique<hope::Extractor>(pending_params_);
+      if (pending_tracker_.mode != tracker_->options().mode) {
+        tracker_ = std::make_unique<hope::PlaneTracker>(pending_tracker_);
+      }
+      pending_ = false;
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  hope::PointsView view;
+  const std::string problem = viewOf(*cloud, view);
+  {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    if (have_seq_ && cloud->header.seq > last_seq_ + 1)
+      dropped_ += cloud->header.seq - last_seq_ - 1;
+    last_seq_ = cloud->header.seq;
+    have_seq_ = true;
+    if (!problem.empty()) {
+      ++rejected_;
+      last_problem_ = problem;
+    }
+  }
+  if (!problem.empty()) {
+    NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
+                          cloud->header.frame_id.c_str(), problem.c_str());
+    return;
+  }
+  hope::Result result;
+  try {
+    result = extractor_->extract(view, orientation);
+  } catch (const std::exception& e) {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    ++rejected_;
+    last_problem_ = e.what();
+    NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
+                          cloud->header.frame_id.c_str(), e.what());
+    return;
+  }
+  for (const auto& w : result.warnings) NODELET_WARN_THROTTLE(30.0, "hope: %s", w.c_str());
+  tracker_->update(result.planes, cloud->header.stamp.toSec());
+
+  std_msgs::Header header = cloud->header;
+  header.frame_id = reference_frame;
+  if (planes_pub_.getNumSubscribers() > 0 || !lazy_) {
+    planes_pub_.publish(boost::make_shared<hope::PlaneArray>(toMessage(result, header)));
+  }
+  if (cloud_pub_.getNumSubscribers() > 0) {
+    cloud_pub_.publish(boost::make_shared<sensor_msgs::PointCloud2>(
+        labeledCloud(extractor_->alignedPoints(), result, view, header)));
+  }
+  if (markers_pub_.getNumSubscribers() > 0) {
+    markers_pub_.publish(
+        boost::make_shared<visualization_msgs::MarkerArray>(planeMarkers(result, header)));
+  }
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+  ++frames_;
+  last_ms_ = ms;
+  sum_ms_ += ms;
+  max_ms_ = std::max(max_ms_, ms);
+}
+
+void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*level*/) {
+  hope::Params params;
+  params.r_xy = config.r_xy;
+  params.r_z = config.r_z;
+  params.min_height = config.min_height <= -1000.0 ? hope::Params().min_height : config.min_height;
+  params.max_height = config.max_height >= 1000.0 ? hope::Params().max_height : config.max_height;
+  params.min_area = config.min_area;
+  hope::TrackerOptions tracker;
+  try {
+    hope::validate(params);
+    tracker.mode = hope::trackingModeFromString(config.tracking_mode);
+  } catch (const std::exception& e) {
+    NODELET_WARN("hope: ignoring the reconfiguration: %s", e.what());
+    return;
+  }
+  std::lock_guard<std::mutex> lock(pending_mutex_);
+  pending_params_ = params;
+  pending_tracker_ = tracker;
+  pending_ = true;
+  NODELET_INFO(
+      "hope: reconfigured: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, "
+      "tracking %s",
+      params.r_xy, params.r_z, params.min_height, params.max_height, params.min_area,
+      config.tracking_mode.c_str());
+}
+
+void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  if (frames_ == 0) {
+    status.summary(
+        diagnostic_msgs::DiagnosticStatus::WARN,
+        rejected_ ? "no frame processed; last problem: " + last_problem_ : "waiting for clouds");
+  } else if (!last_problem_.empty() && rejected_ > 0) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "some clouds rejected: " + last_problem_);
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "processing");
+  }
+  status.add("frames processed", frames_);
+  status.add("frames rejected", rejected_);
+  status.add("frames dropped (sequence gaps)", dropped_);
+  status.add("last processing ms", last_ms_);
+  status.add("mean processing ms", frames_ ? sum_ms_ / frames_ : 0.0);
+  status.add("max processing ms", max_ms_);
+  status.add("orientation source", source_);
+  status.add("reference frame", reference_frame_);
+}
+
+}  // namespace hope_ros
+
+PLUGINLIB_EXPORT_CLASS(hope_ros::PlaneExtractorNodelet, nodelet::Nodelet)

@@ -1,0 +1,160 @@
+// Writes the bags the rostests replay, from scenes with known answers: the synthetic demo room
+// seen by a moving depth camera (with tf, an IMU with orientation, and an accelerometer-only
+// IMU), and the TUM freiburg1_desk frame from ../shared/data with its ground-truth pose as tf
+// and as IMU orientation (skipped when the data is absent).
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hope/depth_image.h"
+#include "hope/gravity_alignment.h"
+#include "hope/synthetic/scene.h"
+
+namespace {
+
+const char* kCameraFrame = "camera_depth_optical_frame";
+const char* kImuFrame = "imu_link";
+
+sensor_msgs::PointCloud2 toMessage(const pcl::PointCloud<pcl::PointXYZ>& cloud, ros::Time stamp,
+                                   const std::string& frame) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame;
+  msg.width = cloud.width;
+  msg.height = cloud.height;
+  const char* names[3] = {"x", "y", "z"};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    sensor_msgs::PointField f;
+    f.name = names[k];
+    f.offset = 4 * k;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    msg.fields.push_back(f);
+  }
+  msg.point_step = 16;  // like PCL's PointXYZ: x y z and padding
+  msg.row_step = msg.point_step * msg.width;
+  msg.is_dense = false;
+  msg.data.resize(static_cast<std::size_t>(msg.row_step) * msg.height);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    std::memcpy(msg.data.data() + i * 16, cloud.points[i].data, 12);
+  }
+  return msg;
+}
+
+geometry_msgs::TransformStamped transform(const Eigen::Isometry3d& parent_from_child,
+                                          const std::string& parent, const std::string& child,
+                                          ros::Time stamp) {
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(parent_from_child);
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  return t;
+}
+
+// The IMU is mounted with x forward (optical z), y left (optical −x), z up (optical −y).
+Eigen::Isometry3d cameraFromImu() {
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(0, 0, 1);
+  r.col(1) = Eigen::Vector3d(-1, 0, 0);
+  r.col(2) = Eigen::Vector3d(0, -1, 0);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = r;
+  return t;
+}
+
+// One frame: the cloud, its pose as tf, the IMU with orientation and without.
+void writeFrame(rosbag::Bag& bag, const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                const Eigen::Isometry3d& world_from_camera, const std::string& world,
+                ros::Time stamp) {
+  bag.write("/camera/depth/points", stamp, toMessage(cloud, stamp, kCameraFrame));
+  tf2_msgs::TFMessage tf;
+  tf.transforms.push_back(transform(world_from_camera, world, kCameraFrame, stamp));
+  bag.write("/tf", stamp, tf);
+  const Eigen::Matrix3d world_from_imu = world_from_camera.rotation() * cameraFromImu().rotation();
+  sensor_msgs::Imu imu;
+  imu.header.stamp = stamp;
+  imu.header.frame_id = kImuFrame;
+  const Eigen::Quaterniond q(world_from_imu);
+  imu.orientation.x = q.x();
+  imu.orientation.y = q.y();
+  imu.orientation.z = q.z();
+  imu.orientation.w = q.w();
+  const Eigen::Vector3d up = world_from_imu.transpose() * Eigen::Vector3d(0, 0, 9.81);
+  imu.linear_acceleration.x = up.x();
+  imu.linear_acceleration.y = up.y();
+  imu.linear_acceleration.z = up.z();
+  bag.write("/imu", stamp, imu);
+  sensor_msgs::Imu accel_only = imu;
+  accel_only.orientation = geometry_msgs::Quaternion();
+  accel_only.orientation_covariance[0] = -1.0;  // "no orientation" by the sensor_msgs convention
+  bag.write("/imu_accel_only", stamp, accel_only);
+}
+
+void writeStatic(rosbag::Bag& bag, ros::Time stamp) {
+  tf2_msgs::TFMessage tf;
+  tf.transforms.push_back(transform(cameraFromImu(), kCameraFrame, kImuFrame, stamp));
+  bag.write("/tf_static", stamp, tf);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: hope_make_test_bags OUT_DIR SHARED_DATA_DIR\n");
+    return 2;
+  }
+  const std::string out = argv[1], shared = argv[2];
+  ros::Time::init();
+  {
+    // Demo room: 5 frames at 5 Hz, the camera sliding 2 cm sideways per frame.
+    rosbag::Bag bag(out + "/synthetic.bag", rosbag::bagmode::Write);
+    const hope::synthetic::Scene room = hope::synthetic::demoRoom();
+    writeStatic(bag, ros::Time(100.0));
+    for (int f = 0; f < 5; ++f) {
+      hope::synthetic::Camera camera = hope::synthetic::demoCamera();
+      camera.pose.translation().y() += 0.02 * f;
+      hope::synthetic::SensorNoise noise;
+      noise.seed = f + 1;
+      const auto frame = room.render(camera, noise);
+      const auto cloud = hope::depthToCloud(frame.depth, camera.intrinsics, 1.0);
+      writeFrame(bag, cloud, camera.pose, "odom", ros::Time(100.2 + 0.2 * f));
+    }
+    bag.close();
+  }
+  const std::string dir = shared + "/tum_fr1_desk";
+  const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);
+  std::ifstream gt(dir + "/groundtruth.txt");
+  double t, tx, ty, tz, qx, qy, qz, qw;
+  std::string line;
+  bool have_pose = false;
+  while (gt && std::getline(gt, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    have_pose =
+        static_cast<bool>(std::istringstream(line) >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw);
+    break;
+  }
+  if (depth.empty() || !have_pose) {
+    std::printf("hope_make_test_bags: no TUM frame under %s: tum.bag not written\n", dir.c_str());
+    return 0;
+  }
+  rosbag::Bag bag(out + "/tum.bag", rosbag::bagmode::Write);
+  const auto cloud = hope::depthToCloud(depth, hope::PinholeIntrinsics::tumFreiburg1(), 5000.0);
+  const Eigen::Isometry3d pose =
+      hope::Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw).sensorToReference();
+  writeStatic(bag, ros::Time(100.0));
+  for (int f = 0; f < 4; ++f) writeFrame(bag, cloud, pose, "world", ros::Time(100.2 + 0.2 * f));
+  bag.close();
+  std::printf("hope_make_test_bags: wrote %s/synthetic.bag and %s/tum.bag\n", out.c_str(),
+              out.c_str());
+  return 0;
+}

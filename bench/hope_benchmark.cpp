@@ -6,6 +6,7 @@
 //
 // Inputs: the TUM freiburg1_desk frame from ../shared/data (skipped when absent) and a
 // 6-million-point unorganized scan of the synthetic demo room (generated on first use).
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <random>
@@ -18,6 +19,7 @@
 #include <pcl/search/kdtree.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "../src/ros/cloud_conversion.h"
 #include "hope/depth_image.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
@@ -173,6 +175,52 @@ void BM_PclNormals(benchmark::State& state) {
   state.SetLabel(kInputNames[state.range(0)]);
 }
 BENCHMARK(BM_PclNormals)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The nodelet's work per frame on the TUM frame, beside the core's own time: the PointCloud2
+// read in place, extraction, tracking, and building the three output messages (PlaneArray,
+// labeled cloud, markers). Within a nodelet manager publishing passes pointers, so this is
+// everything the nodelet adds. Target: at most 1.5 × the core.
+void BM_NodeletFrame(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  sensor_msgs::PointCloud2 msg;
+  msg.header.frame_id = "camera";
+  msg.width = in.cloud->width;
+  msg.height = in.cloud->height;
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    sensor_msgs::PointField f;
+    f.name = std::string(1, static_cast<char>('x' + k));
+    f.offset = 4 * k;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    msg.fields.push_back(f);
+  }
+  msg.point_step = sizeof(pcl::PointXYZ);
+  msg.row_step = msg.point_step * msg.width;
+  msg.data.resize(static_cast<std::size_t>(msg.row_step) * msg.height);
+  std::memcpy(msg.data.data(), in.cloud->points.data(), msg.data.size());
+  hope::Extractor extractor;
+  hope::PlaneTracker tracker;
+  double core_ms = 0;
+  for (auto _ : state) {
+    hope::PointsView view;
+    if (!hope_ros::viewOf(msg, view).empty()) {
+      state.SkipWithError("the PointCloud2 was not readable");
+      return;
+    }
+    hope::Result r = extractor.extract(view, in.pose);
+    tracker.update(r.planes, 0.0);
+    std_msgs::Header header = msg.header;
+    benchmark::DoNotOptimize(hope_ros::toMessage(r, header));
+    benchmark::DoNotOptimize(hope_ros::labeledCloud(extractor.alignedPoints(), r, view, header));
+    benchmark::DoNotOptimize(hope_ros::planeMarkers(r, header));
+    core_ms += r.timings.total_ms;
+  }
+  state.counters["core_ms"] = core_ms / static_cast<double>(state.iterations());
+  state.SetLabel(kInputNames[state.range(0)]);
+}
+BENCHMARK(BM_NodeletFrame)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Tracking cost per frame with 50 planes: a scene of 50 planes (heights 0–2 m, boxes over
 // 10 × 10 m) seen in 100 frames with centimetre jitter, a few planes missing in each frame.

@@ -12,9 +12,9 @@ packages=(
   libcv-bridge-dev libopencv-dev libflann-dev libeigen3-dev
   libtf2-ros-dev libtf2-eigen-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
-  python3-sensor-msgs python3-rosbag
+  python3-sensor-msgs python3-rosbag python3-tf2-msgs python3-opencv
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
-  libvisualization-msgs-dev
+  libvisualization-msgs-dev rviz xvfb imagemagick
   libgtest-dev libbenchmark-dev clang-format
 )
 

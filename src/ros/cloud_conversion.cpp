@@ -183,10 +183,11 @@ visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
     text.id = 3 * p.id + 2;
     text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
     text.pose.position = point(p.centroid + Eigen::Vector3d(0, 0, 0.05));
-    text.scale.z = 0.08;
-    text.color = colorOf(p.id, 1.0f);
+    text.scale.z = 0.12;
+    text.color.r = text.color.g = text.color.b = text.color.a = 1.0f;  // readable on any plane
+    // "id: height": RViz's font has no middle dot.
     char label[64];
-    std::snprintf(label, sizeof(label), "%d \xC2\xB7 %.2f m", p.id, p.height);
+    std::snprintf(label, sizeof(label), "%d: %.2f m", p.id, p.height);
     text.text = label;
     markers.markers.push_back(text);
   }

@@ -28,7 +28,7 @@ sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligne
                                       const std_msgs::Header& header);
 
 // For RViz: a DELETEALL first (no stale markers), then per plane its hull filled and outlined
-// in its id's Pascal VOC colour and a text "id · height".
+// in its id's Pascal VOC colour and a text "id: height".
 visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
                                              const std_msgs::Header& header);
 

@@ -2,6 +2,7 @@
 // against the scene's known answer. Parameters (private):
 //   expected_heights [m…]  planes that must be found (each within `tolerance`)
 //   tolerance (0.03), min_arrays (2), timeout (60 s), expected_frame (frame of the outputs)
+//   expected_count: the exact number of planes (when given)
 //   check_outputs (true): markers with text and a labeled cloud with a label field must arrive
 //   send_malformed (false): publish broken clouds on `cloud_topic` first; hope must live on
 //   reconfigure_min_height: set min_height through dynamic_reconfigure, then no plane below
@@ -158,6 +159,10 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
   std::string found;
   for (const auto& p : last.planes)
     found += " " + std::to_string(p.id) + "@" + std::to_string(p.height);
+  int expected_count;
+  if (pnh.getParam("expected_count", expected_count)) {
+    EXPECT_EQ(static_cast<int>(last.planes.size()), expected_count) << "planes:" << found;
+  }
   if (!expected_frame.empty()) {
     EXPECT_EQ(last.header.frame_id, expected_frame);
   }

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
+
 #include "hope/optimal_assignment.h"
 #include "hope/plane_matching.h"
 
@@ -88,24 +90,63 @@ double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
 // table, 5 cm above it, must not count as merged into the table when it is briefly hidden.
 double sameSurfaceHeight(const TrackerOptions& o) { return 0.5 * o.height_scale; }
 
-// Cost of continuing `before` (displaced by `shift`) with `now`: height change and xy gap in
-// units of their scales, plus two overlap terms of the bounding boxes. One minus the
-// intersection over union, weighted close to the pairing limit: a fragment inside a big
-// plane's box (IoU near 0) must not be worth pairing with it, or the assignment would trade
-// the big plane's id to a fragment to pair more planes. The share of the smaller box outside
-// the other, so a plane seen only in part still prefers its whole over a neighbour. A tiny
-// bonus for age lets the older id win exact ties. Pairs beyond the gates cost kForbidden.
+// The apparent motion of the whole scene between two frames in the reference frame: a turn
+// by `yaw` about the vertical axis through the origin, then a shift. With gravity only, the
+// reference frame's origin is the sensor, so a camera's yaw turns the scene about it.
+struct SceneMotion {
+  double yaw = 0.0;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+};
+
+// `plane` as it would appear after `motion`: height, bounding box (of the turned box's
+// corners) and centroid.
+HorizontalPlane moved(const HorizontalPlane& plane, const SceneMotion& motion) {
+  HorizontalPlane out = plane;
+  const Eigen::Rotation2Dd turn(motion.yaw);
+  const Eigen::Vector2d t = motion.shift.head<2>();
+  const auto& b = plane.bbox;
+  Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(b[0], b[1]), Eigen::Vector2d(b[2], b[1]),
+                                        Eigen::Vector2d(b[0], b[3]), Eigen::Vector2d(b[2], b[3])}) {
+    const Eigen::Vector2d c = turn * corner + t;
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+  }
+  out.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
+  out.height += motion.shift.z();
+  out.centroid.head<2>() = turn * plane.centroid.head<2>() + t;
+  out.centroid.z() += motion.shift.z();
+  return out;
+}
+
+// What the pairing cost needs of a remembered plane, after the scene's motion.
+struct Footprint {
+  std::array<double, 4> bbox;
+  double height;
+  int age;
+};
+
+Footprint footprintOf(const HorizontalPlane& plane, const SceneMotion& motion) {
+  if (motion.yaw == 0.0 && motion.shift.isZero()) return {plane.bbox, plane.height, plane.age};
+  const HorizontalPlane m = moved(plane, motion);
+  return {m.bbox, m.height, m.age};
+}
+
+// Cost of continuing `before` with `now`: height change and xy gap in units of their scales,
+// plus two overlap terms of the bounding boxes. One minus the intersection over union,
+// weighted close to the pairing limit: a fragment inside a big plane's box (IoU near 0) must
+// not be worth pairing with it, or the assignment would trade the big plane's id to a
+// fragment to pair more planes. The share of the smaller box outside the other, so a plane
+// seen only in part still prefers its whole over a neighbour. A tiny bonus for age lets the
+// older id win exact ties. Pairs beyond the gates cost kForbidden.
 constexpr double kIouWeight = 0.8;
-double pairingCost(const HorizontalPlane& before, const HorizontalPlane& now,
-                   const Eigen::Vector3d& shift, const TrackerOptions& o) {
-  const std::array<double, 4> moved = {before.bbox[0] + shift.x(), before.bbox[1] + shift.y(),
-                                       before.bbox[2] + shift.x(), before.bbox[3] + shift.y()};
-  const double dz = std::fabs(now.height - before.height - shift.z());
+double pairingCost(const Footprint& before, const HorizontalPlane& now, const TrackerOptions& o) {
+  const double dz = std::fabs(now.height - before.height);
   if (dz > o.max_height_change) return kForbidden;
-  const double gap = boxGap(moved, now.bbox);
+  const double gap = boxGap(before.bbox, now.bbox);
   if (gap > o.max_xy_gap) return kForbidden;
-  const double area_before = boxArea(moved), area_now = boxArea(now.bbox);
-  const double common = intersectionArea(moved, now.bbox);
+  const double area_before = boxArea(before.bbox), area_now = boxArea(now.bbox);
+  const double common = intersectionArea(before.bbox, now.bbox);
   const double overlap = std::min(1.0, common / std::min(area_before, area_now));
   const double iou = common / (area_before + area_now - common);
   const double height_term = dz / o.height_scale, gap_term = gap / o.xy_scale;
@@ -115,12 +156,13 @@ double pairingCost(const HorizontalPlane& before, const HorizontalPlane& now,
 
 template <class Track>
 Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks,
-                             const std::vector<HorizontalPlane>& planes,
-                             const Eigen::Vector3d& shift, const TrackerOptions& o) {
+                             const std::vector<HorizontalPlane>& planes, const SceneMotion& motion,
+                             const TrackerOptions& o) {
   Eigen::MatrixXd cost(tracks.size(), planes.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t)
-    for (std::size_t p = 0; p < planes.size(); ++p)
-      cost(t, p) = pairingCost(tracks[t].plane, planes[p], shift, o);
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const Footprint before = footprintOf(tracks[t].plane, motion);
+    for (std::size_t p = 0; p < planes.size(); ++p) cost(t, p) = pairingCost(before, planes[p], o);
+  }
   return cost;
 }
 
@@ -137,26 +179,42 @@ double weightedMedian(std::vector<std::pair<double, double>>& samples) {
   return samples.back().first;
 }
 
-// The apparent motion of the scene: the median displacement (bbox centre in xy, height in z)
-// of the pairs with tracks seen in the previous frame, each weighted by its point count so
-// that big planes outvote flickering fragments; false when fewer than 3 pairs make it
-// unreliable.
+// The apparent motion of the scene from the pairs with tracks seen in the previous frame,
+// each weighted by its point count so that big planes outvote flickering fragments: the yaw
+// is the weighted median turn of the centroids about the origin (from planes at least 0.5 m
+// from it, where a turn is measurable), the shift the weighted median displacement of the
+// turned bounding-box centres and heights. False when fewer than 3 pairs make it unreliable.
 template <class Track>
-bool medianShift(const std::vector<Track>& tracks, const std::vector<HorizontalPlane>& planes,
-                 const std::vector<int>& assigned, Eigen::Vector3d& shift) {
-  std::vector<std::pair<double, double>> dx, dy, dz;
+bool estimateMotion(const std::vector<Track>& tracks, const std::vector<HorizontalPlane>& planes,
+                    const std::vector<int>& assigned, SceneMotion& motion) {
+  std::vector<std::pair<double, double>> turns;
+  std::vector<std::size_t> pairs;
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (assigned[t] < 0 || tracks[t].missed > 0) continue;
+    pairs.push_back(t);
+    const Eigen::Vector2d a = tracks[t].plane.centroid.template head<2>();
+    const Eigen::Vector2d b = planes[assigned[t]].centroid.template head<2>();
+    if (a.norm() < 0.5 || b.norm() < 0.5) continue;
+    const double turn =
+        std::remainder(std::atan2(b.y(), b.x()) - std::atan2(a.y(), a.x()), 2.0 * M_PI);
+    turns.emplace_back(
+        turn, static_cast<double>(std::max<std::size_t>(planes[assigned[t]].num_points, 1)));
+  }
+  if (pairs.size() < 3) return false;
+  motion.yaw = turns.size() >= 3 ? weightedMedian(turns) : 0.0;
+  const Eigen::Rotation2Dd turn(motion.yaw);
+  std::vector<std::pair<double, double>> dx, dy, dz;
+  for (std::size_t t : pairs) {
     const HorizontalPlane& now = planes[assigned[t]];
     const auto& a = tracks[t].plane.bbox;
     const auto& b = now.bbox;
+    const Eigen::Vector2d from = turn * Eigen::Vector2d(0.5 * (a[0] + a[2]), 0.5 * (a[1] + a[3]));
     const double weight = static_cast<double>(std::max<std::size_t>(now.num_points, 1));
-    dx.emplace_back(0.5 * (b[0] + b[2] - a[0] - a[2]), weight);
-    dy.emplace_back(0.5 * (b[1] + b[3] - a[1] - a[3]), weight);
+    dx.emplace_back(0.5 * (b[0] + b[2]) - from.x(), weight);
+    dy.emplace_back(0.5 * (b[1] + b[3]) - from.y(), weight);
     dz.emplace_back(now.height - tracks[t].plane.height, weight);
   }
-  if (dz.size() < 3) return false;
-  shift = Eigen::Vector3d(weightedMedian(dx), weightedMedian(dy), weightedMedian(dz));
+  motion.shift = Eigen::Vector3d(weightedMedian(dx), weightedMedian(dy), weightedMedian(dz));
   return true;
 }
 
@@ -286,21 +344,21 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   const int num_tracks = static_cast<int>(tracks_.size());
   const int num_planes = static_cast<int>(planes.size());
 
-  // Two passes: the first pairs planes as they are; the median displacement of those pairs
-  // is the apparent motion of the whole scene (large when only gravity is known, so the
-  // reference frame moves with the camera), which the second pass removes before pairing.
-  // The shift is kept only when it explains the frame better than no shift.
+  // Two passes: the first pairs planes as they are; those pairs give the apparent motion of
+  // the whole scene (a turn about the origin and a shift: large when only gravity is known,
+  // so the reference frame moves with the camera), which the second pass removes first.
+  // The motion is kept only when it explains the frame better than no motion.
   const double unpaired = 0.5 * o.max_match_cost;
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  const Eigen::MatrixXd unshifted = pairingCosts(tracks_, planes, shift, o);
-  std::vector<int> assigned = assignWithinComponents(unshifted, unpaired);
-  Eigen::Vector3d motion;
-  if (medianShift(tracks_, planes, assigned, motion)) {
-    const Eigen::MatrixXd shifted = pairingCosts(tracks_, planes, motion, o);
-    std::vector<int> reassigned = assignWithinComponents(shifted, unpaired);
-    if (totalCost(shifted, reassigned, unpaired) < totalCost(unshifted, assigned, unpaired)) {
+  SceneMotion motion;
+  const Eigen::MatrixXd unmoved = pairingCosts(tracks_, planes, motion, o);
+  std::vector<int> assigned = assignWithinComponents(unmoved, unpaired);
+  SceneMotion estimate;
+  if (estimateMotion(tracks_, planes, assigned, estimate)) {
+    const Eigen::MatrixXd compensated = pairingCosts(tracks_, planes, estimate, o);
+    std::vector<int> reassigned = assignWithinComponents(compensated, unpaired);
+    if (totalCost(compensated, reassigned, unpaired) < totalCost(unmoved, assigned, unpaired)) {
       assigned = std::move(reassigned);
-      shift = motion;
+      motion = estimate;
     }
   }
 
@@ -362,9 +420,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
       continue;
     }
     // A remembered plane moves with the rest of the scene.
-    track.plane.height += shift.z();
-    track.plane.bbox = {track.plane.bbox[0] + shift.x(), track.plane.bbox[1] + shift.y(),
-                        track.plane.bbox[2] + shift.x(), track.plane.bbox[3] + shift.y()};
+    track.plane = moved(track.plane, motion);
     if (++track.missed > o.max_missed_frames) {
       events.push_back({TrackEvent::Kind::kEnded, track.plane.id});
       continue;

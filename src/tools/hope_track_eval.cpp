@@ -66,7 +66,8 @@ cv::flann, the closest of competing planes keeps the id, no memory). `improved` 
 physical gates (5 cm height, 0.4 m box gap), costs from height change, box gap and box
 overlap (IoU-weighted so fragments cannot steal a big plane's id), optimal one-to-one
 assignment (Hungarian) per group of competing planes with a cost for leaving a plane
-unpaired, the scene's apparent motion estimated from a first pass and removed (kept only when
+unpaired, the scene's apparent motion (a turn about the origin and a shift) estimated from a
+first pass and removed (kept only when
 it explains the frame better), lost planes remembered for 30 frames and moved with the
 scene, merges and splits reported.
 

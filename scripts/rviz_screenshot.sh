@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Takes docs/rviz_tum.png: the TUM freiburg1_desk frame (../shared/data, as the rostest bag
 # built by `bash scripts/test.sh`) replayed into the hope nodelet, shown by RViz under Xvfb
-# with rviz/hope.rviz (labeled cloud coloured by plane id, hulls and "id · height" labels).
+# with rviz/hope.rviz (labeled cloud coloured by plane id, hulls and "id: height" labels).
 # Needs: rviz xvfb imagemagick (apt-get install -y rviz xvfb imagemagick).
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH

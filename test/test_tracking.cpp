@@ -1,4 +1,4 @@
-// HorizontalPlane identities across frames: the paper's NNPM (Eq 11–14), the improved tracker, the
+// Plane identities across frames: the paper's NNPM (Eq 11–14), the improved tracker, the
 // optimal assignment and the identity scores.
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-// HorizontalPlane description: turns a cluster that survived refinement into a HorizontalPlane
+// Plane description: turns a cluster that survived refinement into a HorizontalPlane
 // measured on the full-resolution input points (not only voxel centroids).
 #pragma once
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "hope/plane.h"
 
 namespace hope {
@@ -12,8 +14,9 @@ enum class TrackingMode {
   // §2.5 as published: nearest neighbour in jointly normalized (z_mean, bbox) space between
   // the previous and the current frame only; conflicts go to the closest.
   kPaper,
-  // Gated, optimal one-to-one assignment on physical costs, with memory of lost planes and
-  // explicit merge / split handling. The default.
+  // Gated, optimal one-to-one assignment on physical costs after removing the scene's
+  // apparent motion (a turn and a shift estimated from a first pass), with memory of lost
+  // planes and explicit merge / split handling. The default.
   kImproved,
 };
 
@@ -26,7 +29,8 @@ struct TrackerOptions {
   // Improved mode only. A plane cannot move more than this in height between two frames in
   // which it is seen (metres): a 30 cm jump is another surface.
   double max_height_change = 0.05;
-  // ...nor can its xy bounding box end up further than this from where it was (metres).
+  // ...nor can its xy bounding box end up further than this from where the scene's motion
+  // puts it (metres).
   double max_xy_gap = 0.40;
   // Scales of the matching cost: a height difference of `height_scale` costs as much as a
   // bounding box gap of `xy_scale` or a complete loss of bounding-box overlap.
@@ -83,6 +87,11 @@ class PlaneTracker {
   struct Track {
     HorizontalPlane plane;  // as last seen
     int missed = 0;
+    // The scene's apparent motion since the plane was last seen (a turn about the vertical
+    // axis through the origin, then a shift), applied to `plane` when it is compared: kept
+    // apart so that turning its bounding box frame after frame does not inflate it.
+    double turned = 0.0;
+    Eigen::Vector3d shifted = Eigen::Vector3d::Zero();
   };
   std::vector<TrackEvent> updatePaper(std::vector<HorizontalPlane>& planes, double stamp);
   std::vector<TrackEvent> updateImproved(std::vector<HorizontalPlane>& planes, double stamp);

@@ -98,10 +98,15 @@ struct SceneMotion {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
 };
 
-// `plane` as it would appear after `motion`: height, bounding box (of the turned box's
-// corners) and centroid.
-HorizontalPlane moved(const HorizontalPlane& plane, const SceneMotion& motion) {
-  HorizontalPlane out = plane;
+// What the pairing cost needs of a remembered plane, after the scene's motion.
+struct Footprint {
+  std::array<double, 4> bbox;
+  double height;
+  int age;
+};
+
+Footprint footprintOf(const HorizontalPlane& plane, const SceneMotion& motion) {
+  if (motion.yaw == 0.0 && motion.shift.isZero()) return {plane.bbox, plane.height, plane.age};
   const Eigen::Rotation2Dd turn(motion.yaw);
   const Eigen::Vector2d t = motion.shift.head<2>();
   const auto& b = plane.bbox;
@@ -112,24 +117,43 @@ HorizontalPlane moved(const HorizontalPlane& plane, const SceneMotion& motion) {
     lo = lo.cwiseMin(c);
     hi = hi.cwiseMax(c);
   }
-  out.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
-  out.height += motion.shift.z();
+  return {{lo.x(), lo.y(), hi.x(), hi.y()}, plane.height + motion.shift.z(), plane.age};
+}
+
+// `plane` as it would appear after `motion`: height, bounding box (of the turned box's
+// corners) and centroid.
+HorizontalPlane moved(const HorizontalPlane& plane, const SceneMotion& motion) {
+  HorizontalPlane out = plane;
+  const Eigen::Rotation2Dd turn(motion.yaw);
+  const Eigen::Vector2d t = motion.shift.head<2>();
+  const Footprint footprint = footprintOf(plane, motion);
+  out.bbox = footprint.bbox;
+  out.height = footprint.height;
   out.centroid.head<2>() = turn * plane.centroid.head<2>() + t;
   out.centroid.z() += motion.shift.z();
+  for (Eigen::Vector3d& h : out.hull) {
+    h.head<2>() = turn * h.head<2>() + t;
+    h.z() += motion.shift.z();
+  }
   return out;
 }
 
-// What the pairing cost needs of a remembered plane, after the scene's motion.
-struct Footprint {
-  std::array<double, 4> bbox;
-  double height;
-  int age;
-};
+// `first` followed by `second`.
+SceneMotion compose(const SceneMotion& first, const SceneMotion& second) {
+  SceneMotion both;
+  both.yaw = first.yaw + second.yaw;
+  both.shift.head<2>() =
+      Eigen::Rotation2Dd(second.yaw) * first.shift.head<2>() + second.shift.head<2>();
+  both.shift.z() = first.shift.z() + second.shift.z();
+  return both;
+}
 
-Footprint footprintOf(const HorizontalPlane& plane, const SceneMotion& motion) {
-  if (motion.yaw == 0.0 && motion.shift.isZero()) return {plane.bbox, plane.height, plane.age};
-  const HorizontalPlane m = moved(plane, motion);
-  return {m.bbox, m.height, m.age};
+template <class Track>
+SceneMotion sinceSeen(const Track& track) {
+  SceneMotion m;
+  m.yaw = track.turned;
+  m.shift = track.shifted;
+  return m;
 }
 
 // Cost of continuing `before` with `now`: height change and xy gap in units of their scales,
@@ -160,7 +184,7 @@ Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks,
                              const TrackerOptions& o) {
   Eigen::MatrixXd cost(tracks.size(), planes.size());
   for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const Footprint before = footprintOf(tracks[t].plane, motion);
+    const Footprint before = footprintOf(tracks[t].plane, compose(sinceSeen(tracks[t]), motion));
     for (std::size_t p = 0; p < planes.size(); ++p) cost(t, p) = pairingCost(before, planes[p], o);
   }
   return cost;
@@ -293,7 +317,7 @@ void PlaneTracker::reset() { tracks_.clear(); }
 std::vector<HorizontalPlane> PlaneTracker::lostPlanes() const {
   std::vector<HorizontalPlane> lost;
   for (const Track& t : tracks_)
-    if (t.missed > 0) lost.push_back(t.plane);
+    if (t.missed > 0) lost.push_back(moved(t.plane, sinceSeen(t)));
   return lost;
 }
 
@@ -333,7 +357,7 @@ std::vector<TrackEvent> PlaneTracker::updatePaper(std::vector<HorizontalPlane>& 
     if (!continued[i]) events.push_back({TrackEvent::Kind::kEnded, previous[i].id});
   }
   tracks_.clear();
-  for (const HorizontalPlane& p : planes) tracks_.push_back({p, 0});
+  for (const HorizontalPlane& p : planes) tracks_.push_back({p, 0, 0.0, Eigen::Vector3d::Zero()});
   return events;
 }
 
@@ -387,11 +411,13 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     if (track_of_plane[p] >= 0) continue;
     startTrack(planes[p], stamp, events);
     for (int t = 0; t < num_tracks; ++t) {
-      const HorizontalPlane& before = tracks_[t].plane;
-      if (matched[t] && std::fabs(before.height - planes[p].height) <= sameSurfaceHeight(o) &&
+      if (!matched[t]) continue;
+      const Footprint before =
+          footprintOf(tracks_[t].plane, compose(sinceSeen(tracks_[t]), motion));
+      if (std::fabs(before.height - planes[p].height) <= sameSurfaceHeight(o) &&
           shareInside(planes[p].bbox, before.bbox) >= o.merge_split_overlap) {
-        planes[p].split_from = before.id;
-        events.push_back({TrackEvent::Kind::kSplit, planes[p].id, before.id});
+        planes[p].split_from = tracks_[t].plane.id;
+        events.push_back({TrackEvent::Kind::kSplit, planes[p].id, tracks_[t].plane.id});
         break;
       }
     }
@@ -404,12 +430,17 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   for (int t = 0; t < num_tracks; ++t) {
     if (matched[t]) continue;
     Track track = tracks_[t];
+    // A remembered plane moves with the rest of the scene.
+    const SceneMotion since = compose(sinceSeen(track), motion);
+    track.turned = since.yaw;
+    track.shifted = since.shift;
     int merged_into = -1;
     if (track.missed == 0) {
+      const Footprint before = footprintOf(track.plane, since);
       for (const HorizontalPlane& now : planes) {
         if (now.id != track.plane.id &&
-            std::fabs(now.height - track.plane.height) <= sameSurfaceHeight(o) &&
-            shareInside(track.plane.bbox, now.bbox) >= o.merge_split_overlap) {
+            std::fabs(now.height - before.height) <= sameSurfaceHeight(o) &&
+            shareInside(before.bbox, now.bbox) >= o.merge_split_overlap) {
           merged_into = now.id;
           break;
         }
@@ -419,8 +450,6 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
       events.push_back({TrackEvent::Kind::kMerged, track.plane.id, merged_into});
       continue;
     }
-    // A remembered plane moves with the rest of the scene.
-    track.plane = moved(track.plane, motion);
     if (++track.missed > o.max_missed_frames) {
       events.push_back({TrackEvent::Kind::kEnded, track.plane.id});
       continue;
@@ -428,7 +457,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     if (track.missed == 1) events.push_back({TrackEvent::Kind::kLost, track.plane.id});
     next.push_back(std::move(track));
   }
-  for (const HorizontalPlane& p : planes) next.push_back({p, 0});
+  for (const HorizontalPlane& p : planes) next.push_back({p, 0, 0.0, Eigen::Vector3d::Zero()});
   tracks_ = std::move(next);
   return events;
 }

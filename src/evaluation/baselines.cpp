@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/features/normal_3d.h>

@@ -1,9 +1,7 @@
 #include "cloud_conversion.h"
 
-#include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 
 #include <geometry_msgs/Point32.h>
 
@@ -20,7 +18,7 @@ const sensor_msgs::PointField* field(const sensor_msgs::PointCloud2& cloud, cons
 }
 
 std_msgs::ColorRGBA colorOf(int id, float alpha) {
-  const cv::Vec3b bgr = hope::tools::vocColor(id % 255 + 1);
+  const cv::Vec3b bgr = hope::tools::planeColor(id);
   std_msgs::ColorRGBA c;
   c.r = bgr[2] / 255.f;
   c.g = bgr[1] / 255.f;
@@ -135,7 +133,7 @@ sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligne
     std::memcpy(p, aligned[i].data(), 12);
     const int index = i < result.point_labels.size() ? result.point_labels[i] : -1;
     const int id = index >= 0 ? result.planes[index].id : -1;
-    const cv::Vec3b bgr = id >= 0 ? hope::tools::vocColor(id % 255 + 1) : cv::Vec3b(128, 128, 128);
+    const cv::Vec3b bgr = id >= 0 ? hope::tools::planeColor(id) : cv::Vec3b(128, 128, 128);
     const std::uint32_t rgb = (std::uint32_t(bgr[2]) << 16) | (std::uint32_t(bgr[1]) << 8) | bgr[0];
     std::memcpy(p + 12, &rgb, 4);
     const std::uint32_t label = id >= 0 ? static_cast<std::uint32_t>(id + 1) : 0u;

@@ -4,7 +4,6 @@
 
 #include <string>
 
-#include <geometry_msgs/Quaternion.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -18,7 +17,7 @@ namespace hope_ros {
 // buffer shorter than the header says.
 std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view);
 
-// The planes as a message, in `frame` with the cloud's stamp.
+// The planes as a message with `header` (the reference frame and the cloud's stamp).
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);
 
 // Points in the reference frame with x y z (float32), rgb (float32, colour of the plane's id,

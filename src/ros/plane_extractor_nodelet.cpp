@@ -1,6 +1,5 @@
 // The hope nodelet: a thin adapter between ROS topics and the ROS-free core. Point cloud (and
 // IMU or tf) in; PlaneArray, labeled cloud and RViz markers out, in the reference frame.
-#include <atomic>
 #include <chrono>
 #include <deque>
 #include <memory>
@@ -31,13 +30,15 @@
 
 namespace hope_ros {
 
+// tf2 frame ids have no leading slash; ROS 1 bags recorded with tf1 (the TUM bags) do.
+std::string frameId(const std::string& frame) {
+  return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+}
+
 using CloudImuPolicy =
     message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, sensor_msgs::Imu>;
 
 class PlaneExtractorNodelet : public nodelet::Nodelet {
- public:
-  ~PlaneExtractorNodelet() override = default;
-
  private:
   void onInit() override;
   void connectionChanged();
@@ -46,8 +47,14 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
                      const sensor_msgs::ImuConstPtr& imu);
   void process(const sensor_msgs::PointCloud2ConstPtr& cloud, const hope::Orientation& orientation,
                const std::string& reference_frame);
-  bool orientationFromImu(const sensor_msgs::Imu& imu, const std::string& cloud_frame,
-                          hope::Orientation& orientation);
+  hope::Orientation orientationFromImu(const sensor_msgs::Imu& imu, const std::string& cloud_frame);
+  // Publishes the gravity-aligned reference frame as a child of the cloud's frame (a frame
+  // has one parent in tf; the cloud's frame usually has its own already).
+  void broadcastReference(const std_msgs::Header& cloud_header,
+                          const hope::Orientation& orientation);
+  // Counts sequence gaps (frames dropped before they reached hope).
+  void noteArrival(const sensor_msgs::PointCloud2& cloud);
+  void reject(const std::string& problem);
   void reconfigure(hope::HopeConfig& config, uint32_t level);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -88,7 +95,7 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   std::mutex stats_mutex_;
-  std::size_t frames_ = 0, rejected_ = 0, dropped_ = 0;
+  std::size_t frames_ = 0, rejected_ = 0, dropped_ = 0, rejected_since_update_ = 0;
   double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
   std::uint32_t last_seq_ = 0;
   bool have_seq_ = false;
@@ -101,6 +108,7 @@ void PlaneExtractorNodelet::onInit() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   pnh.param<std::string>("orientation_source", source_, "imu");
   pnh.param<std::string>("reference_frame", reference_frame_, "");
+  reference_frame_ = frameId(reference_frame_);
   pnh.param("tf_timeout", tf_timeout_, 0.1);
   pnh.param("lazy", lazy_, true);
   pnh.param("gravity_window", gravity_window_, 10);
@@ -135,21 +143,11 @@ void PlaneExtractorNodelet::onInit() {
     }
   }
 
-  hope::Params params;
-  pnh.param("r_xy", params.r_xy, params.r_xy);
-  pnh.param("r_z", params.r_z, params.r_z);
-  pnh.param("min_area", params.min_area, params.min_area);
-  hope::TrackerOptions tracker;
-  std::string mode = "improved";
-  pnh.param<std::string>("tracking_mode", mode, mode);
-  try {
-    tracker.mode = hope::trackingModeFromString(mode);
-    extractor_ = std::make_unique<hope::Extractor>(params);
-  } catch (const std::exception& e) {
-    NODELET_ERROR("%s; using the defaults", e.what());
-    extractor_ = std::make_unique<hope::Extractor>();
-  }
-  tracker_ = std::make_unique<hope::PlaneTracker>(tracker);
+  // The extraction parameters (r_xy, r_z, height band, min_area, tracking_mode) come through
+  // dynamic_reconfigure, which reads them from the parameter server at start-up and calls
+  // reconfigure() before the first frame.
+  extractor_ = std::make_unique<hope::Extractor>();
+  tracker_ = std::make_unique<hope::PlaneTracker>();
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -175,8 +173,8 @@ void PlaneExtractorNodelet::onInit() {
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 1, changed, changed);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, changed, changed);
   }
-  NODELET_INFO("hope: orientation from %s, reference frame '%s', r_xy %.3f, r_z %.3f, %s",
-               source_.c_str(), reference_frame_.c_str(), params.r_xy, params.r_z,
+  NODELET_INFO("hope: orientation from %s, reference frame '%s', %s", source_.c_str(),
+               reference_frame_.c_str(),
                lazy_ ? "subscribing while outputs have listeners" : "always subscribed");
   if (!lazy_) connectionChanged();
 }
@@ -205,42 +203,69 @@ void PlaneExtractorNodelet::connectionChanged() {
     sync_cloud_sub_.reset();
     sync_imu_sub_.reset();
     cloud_sub_.shutdown();
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    have_seq_ = false;  // a pause is not a drop
   }
   subscribed_ = wanted;
 }
 
+void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  if (have_seq_ && cloud.header.seq > last_seq_ + 1) dropped_ += cloud.header.seq - last_seq_ - 1;
+  last_seq_ = cloud.header.seq;
+  have_seq_ = true;
+}
+
+void PlaneExtractorNodelet::reject(const std::string& problem) {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  ++rejected_;
+  ++rejected_since_update_;
+  last_problem_ = problem;
+}
+
+void PlaneExtractorNodelet::broadcastReference(const std_msgs::Header& cloud_header,
+                                               const hope::Orientation& orientation) {
+  geometry_msgs::TransformStamped t =
+      tf2::eigenToTransform(orientation.sensorToReference().inverse());
+  t.header.stamp = cloud_header.stamp;
+  t.header.frame_id = frameId(cloud_header.frame_id);
+  t.child_frame_id = reference_frame_;
+  tf_broadcaster_->sendTransform(t);
+}
+
 void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  noteArrival(*cloud);
+  const std::string cloud_frame = frameId(cloud->header.frame_id);
   if (source_ == "none") {
-    process(cloud, hope::Orientation::identity(), cloud->header.frame_id);
+    process(cloud, hope::Orientation::identity(), cloud_frame);
     return;
   }
   if (source_ == "fixed") {
+    broadcastReference(cloud->header, fixed_);
     process(cloud, fixed_, reference_frame_);
     return;
   }
   // tf: the cloud's frame in the reference frame at the cloud's stamp, translation included.
   try {
     const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
-        reference_frame_, cloud->header.frame_id, cloud->header.stamp, ros::Duration(tf_timeout_));
+        reference_frame_, cloud_frame, cloud->header.stamp, ros::Duration(tf_timeout_));
     process(cloud, hope::Orientation::fromTransform(tf2::transformToEigen(t)), reference_frame_);
   } catch (const std::exception& e) {
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    ++rejected_;
-    last_problem_ = std::string("no transform: ") + e.what();
+    reject(std::string("no transform: ") + e.what());
     NODELET_WARN_THROTTLE(5.0,
                           "hope: skipping a cloud: no transform from '%s' to '%s' at %.3f "
                           "within %.2f s (%s)",
-                          cloud->header.frame_id.c_str(), reference_frame_.c_str(),
+                          cloud_frame.c_str(), reference_frame_.c_str(),
                           cloud->header.stamp.toSec(), tf_timeout_, e.what());
   }
 }
 
-bool PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::Imu& imu,
-                                               const std::string& cloud_frame,
-                                               hope::Orientation& orientation) {
+hope::Orientation PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::Imu& imu,
+                                                            const std::string& cloud_frame) {
   // The fixed rotation from the cloud's frame into the IMU's frame (identity when they agree).
   Eigen::Matrix3d imu_from_cloud = Eigen::Matrix3d::Identity();
-  const std::string imu_frame = imu.header.frame_id.empty() ? cloud_frame : imu.header.frame_id;
+  const std::string imu_frame =
+      imu.header.frame_id.empty() ? cloud_frame : frameId(imu.header.frame_id);
   if (imu_frame != cloud_frame) {
     const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
         imu_frame, cloud_frame, ros::Time(0), ros::Duration(tf_timeout_));
@@ -252,8 +277,7 @@ bool PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::Imu& imu,
     const hope::Orientation world_from_imu = hope::Orientation::fromQuaternion(q.x, q.y, q.z, q.w);
     Eigen::Isometry3d world_from_cloud = Eigen::Isometry3d::Identity();
     world_from_cloud.linear() = world_from_imu.sensorToReference().rotation() * imu_from_cloud;
-    orientation = hope::Orientation::fromTransform(world_from_cloud);
-    return true;
+    return hope::Orientation::fromTransform(world_from_cloud);
   }
   // Gravity only: the specific force points up at rest; average recent samples so that the
   // camera's own accelerations do not tilt the reference frame from frame to frame.
@@ -269,29 +293,23 @@ bool PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::Imu& imu,
   }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& g : recent_gravity_) mean += g;
-  orientation = hope::Orientation::fromGravity(mean.x(), mean.y(), mean.z());
-  return true;
+  return hope::Orientation::fromGravity(mean.x(), mean.y(), mean.z());
 }
 
 void PlaneExtractorNodelet::onCloudAndImu(const sensor_msgs::PointCloud2ConstPtr& cloud,
                                           const sensor_msgs::ImuConstPtr& imu) {
+  noteArrival(*cloud);
   hope::Orientation orientation = hope::Orientation::identity();
   try {
     std::lock_guard<std::mutex> lock(processing_mutex_);  // recent_gravity_
-    orientationFromImu(*imu, cloud->header.frame_id, orientation);
+    orientation = orientationFromImu(*imu, frameId(cloud->header.frame_id));
   } catch (const std::exception& e) {
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    ++rejected_;
-    last_problem_ = std::string("bad IMU message: ") + e.what();
+    reject(std::string("bad IMU message: ") + e.what());
     NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud: bad IMU message: %s", e.what());
     return;
   }
   // Broadcast the gravity-aligned frame so RViz can show the outputs with the camera.
-  geometry_msgs::TransformStamped t = tf2::eigenToTransform(orientation.sensorToReference());
-  t.header.stamp = cloud->header.stamp;
-  t.header.frame_id = reference_frame_;
-  t.child_frame_id = cloud->header.frame_id;
-  tf_broadcaster_->sendTransform(t);
+  broadcastReference(cloud->header, orientation);
   process(cloud, orientation, reference_frame_);
 }
 
@@ -312,18 +330,8 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   const auto start = std::chrono::steady_clock::now();
   hope::PointsView view;
   const std::string problem = viewOf(*cloud, view);
-  {
-    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    if (have_seq_ && cloud->header.seq > last_seq_ + 1)
-      dropped_ += cloud->header.seq - last_seq_ - 1;
-    last_seq_ = cloud->header.seq;
-    have_seq_ = true;
-    if (!problem.empty()) {
-      ++rejected_;
-      last_problem_ = problem;
-    }
-  }
   if (!problem.empty()) {
+    reject(problem);
     NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
                           cloud->header.frame_id.c_str(), problem.c_str());
     return;
@@ -332,9 +340,7 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   try {
     result = extractor_->extract(view, orientation);
   } catch (const std::exception& e) {
-    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    ++rejected_;
-    last_problem_ = e.what();
+    reject(e.what());
     NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
                           cloud->header.frame_id.c_str(), e.what());
     return;
@@ -371,23 +377,26 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   params.min_height = config.min_height <= -1000.0 ? hope::Params().min_height : config.min_height;
   params.max_height = config.max_height >= 1000.0 ? hope::Params().max_height : config.max_height;
   params.min_area = config.min_area;
-  hope::TrackerOptions tracker;
+  // Each part is checked on its own: a bad value keeps the last good one of its part only.
+  std::lock_guard<std::mutex> lock(pending_mutex_);
   try {
     hope::validate(params);
-    tracker.mode = hope::trackingModeFromString(config.tracking_mode);
+    pending_params_ = params;
   } catch (const std::exception& e) {
-    NODELET_WARN("hope: ignoring the reconfiguration: %s", e.what());
-    return;
+    NODELET_WARN("hope: keeping the previous extraction parameters: %s", e.what());
   }
-  std::lock_guard<std::mutex> lock(pending_mutex_);
-  pending_params_ = params;
-  pending_tracker_ = tracker;
+  try {
+    pending_tracker_.mode = hope::trackingModeFromString(config.tracking_mode);
+  } catch (const std::exception& e) {
+    NODELET_WARN("hope: keeping tracking mode %s: %s", hope::toString(pending_tracker_.mode),
+                 e.what());
+  }
   pending_ = true;
+  const hope::Params& p = pending_params_;
   NODELET_INFO(
-      "hope: reconfigured: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, "
+      "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, "
       "tracking %s",
-      params.r_xy, params.r_z, params.min_height, params.max_height, params.min_area,
-      config.tracking_mode.c_str());
+      p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area, hope::toString(pending_tracker_.mode));
 }
 
 void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
@@ -396,12 +405,14 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
     status.summary(
         diagnostic_msgs::DiagnosticStatus::WARN,
         rejected_ ? "no frame processed; last problem: " + last_problem_ : "waiting for clouds");
-  } else if (!last_problem_.empty() && rejected_ > 0) {
+  } else if (rejected_since_update_ > 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                   "some clouds rejected: " + last_problem_);
+                   std::to_string(rejected_since_update_) +
+                       " cloud(s) rejected since the last report; last problem: " + last_problem_);
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "processing");
   }
+  rejected_since_update_ = 0;
   status.add("frames processed", frames_);
   status.add("frames rejected", rejected_);
   status.add("frames dropped (sequence gaps)", dropped_);

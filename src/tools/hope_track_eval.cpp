@@ -33,7 +33,7 @@ Defaults: 90 frames, 640 px wide, the extractor's default r_xy and r_z.
 )";
 
 // The head of docs/tracking.md: what is measured and how.
-const char* kPreamble = R"(# HorizontalPlane identities across frames: paper mode vs improved mode
+const char* kPreamble = R"(# Plane identities across frames: paper mode vs improved mode
 
 Made by `bash scripts/evaluate_tracking.sh` (`hope_track_eval --markdown docs/tracking.md`);
 every figure below comes from that run. Do not edit by hand.

@@ -21,6 +21,8 @@ cv::Vec3b vocColor(int index) {
   return cv::Vec3b(static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r));
 }
 
+cv::Vec3b planeColor(int id) { return vocColor((id % 255 + 255) % 255 + 1); }
+
 namespace {
 
 std::string planeText(const HorizontalPlane& plane) {
@@ -78,7 +80,7 @@ cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_co
       }
       const int label = result.point_labels[i];
       if (label >= 0) {
-        base = tint(base, vocColor(result.planes[label].id + 1));
+        base = tint(base, planeColor(result.planes[label].id));
         pixel_sum[label] += Eigen::Vector2d(c, r);
         ++pixel_count[label];
       }
@@ -125,14 +127,14 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
     const auto grey = static_cast<uchar>(60 + 170 * (p.z() - lo.z()) / z_span);
     cv::Vec3b color(grey, grey, grey);
     const int label = result.point_labels[i];
-    if (label >= 0) color = tint(color, vocColor(result.planes[label].id + 1));
+    if (label >= 0) color = tint(color, planeColor(result.planes[label].id));
     image.at<cv::Vec3b>(px) = color;
   }
   for (const HorizontalPlane& plane : result.planes) {
     std::vector<cv::Point> polygon;
     for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x(), v.y()));
     if (polygon.size() >= 2) {
-      const cv::Vec3b c = vocColor(plane.id + 1);
+      const cv::Vec3b c = planeColor(plane.id);
       cv::polylines(image, polygon, true, cv::Scalar(c[0], c[1], c[2]), 2, cv::LINE_AA);
     }
     drawLabel(image, planeText(plane), toPixel(plane.centroid.x(), plane.centroid.y()), 0.6);
@@ -166,7 +168,7 @@ cv::Mat renderLabelsTopDown(const std::vector<Eigen::Vector3f>& points,
     const int row = static_cast<int>((y1 - points[i].y()) / (y1 - y0) * size);
     if (col < 0 || row < 0 || col >= size || row >= size) continue;
     image.at<cv::Vec3b>(row, col) =
-        labels[i] >= 0 ? vocColor(labels[i] % 255 + 1) : cv::Vec3b(170, 170, 170);
+        labels[i] >= 0 ? planeColor(labels[i]) : cv::Vec3b(170, 170, 170);
   }
   return image;
 }

@@ -24,7 +24,13 @@ void forEachDataLine(const std::string& path, Parse parse) {
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     std::istringstream fields(line);
-    if (!parse(fields)) {
+    bool parsed = false;
+    try {
+      parsed = parse(fields);
+    } catch (const std::exception& e) {  // e.g. a zero quaternion: say where it is
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": " + e.what());
+    }
+    if (!parsed) {
       throw std::runtime_error(path + ":" + std::to_string(number) + ": cannot parse '" + line +
                                "'");
     }

@@ -17,6 +17,10 @@ namespace tools {
 // id k uses index k + 1).
 cv::Vec3b vocColor(int index);
 
+// The colour of plane id `id` everywhere (pictures, RViz): VOC entry id + 1, wrapping after
+// 255 ids so that large ids still get a colour (never the black background).
+cv::Vec3b planeColor(int id);
+
 // For an organized cloud: the image (its colour, or a grey depth rendering) with every plane's
 // pixels tinted by its id and "id: height" written on it. For an unorganized cloud: a top-down
 // view of the aligned points, planes tinted, hulls outlined and labelled.

@@ -184,22 +184,9 @@ void BM_NodeletFrame(benchmark::State& state) {
   const Input* input = inputOrSkip(state);
   if (!input) return;
   const Input& in = *input;
-  sensor_msgs::PointCloud2 msg;
-  msg.header.frame_id = "camera";
-  msg.width = in.cloud->width;
-  msg.height = in.cloud->height;
-  for (std::uint32_t k = 0; k < 3; ++k) {
-    sensor_msgs::PointField f;
-    f.name = std::string(1, static_cast<char>('x' + k));
-    f.offset = 4 * k;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    msg.fields.push_back(f);
-  }
-  msg.point_step = sizeof(pcl::PointXYZ);
-  msg.row_step = msg.point_step * msg.width;
-  msg.data.resize(static_cast<std::size_t>(msg.row_step) * msg.height);
-  std::memcpy(msg.data.data(), in.cloud->points.data(), msg.data.size());
+  std_msgs::Header camera;
+  camera.frame_id = "camera";
+  const sensor_msgs::PointCloud2 msg = hope_ros::cloudMessage(*in.cloud, camera);
   hope::Extractor extractor;
   hope::PlaneTracker tracker;
   double core_ms = 0;

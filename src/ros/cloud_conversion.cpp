@@ -74,6 +74,29 @@ std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view
   return "";
 }
 
+sensor_msgs::PointCloud2 cloudMessage(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                      const std_msgs::Header& header) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header = header;
+  msg.width = cloud.width;
+  msg.height = cloud.height;
+  const char* names[3] = {"x", "y", "z"};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    sensor_msgs::PointField f;
+    f.name = names[k];
+    f.offset = 4 * k;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    msg.fields.push_back(f);
+  }
+  msg.point_step = sizeof(pcl::PointXYZ);  // x y z and padding
+  msg.row_step = msg.point_step * msg.width;
+  msg.is_dense = false;
+  msg.data.resize(static_cast<std::size_t>(msg.point_step) * cloud.size());
+  if (!cloud.empty()) std::memcpy(msg.data.data(), cloud.points.data(), msg.data.size());
+  return msg;
+}
+
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header) {
   hope::PlaneArray msg;
   msg.header = header;

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -16,6 +18,11 @@ namespace hope_ros {
 // cannot be read: missing or non-float32 x/y/z fields, big-endian data, padded rows, a data
 // buffer shorter than the header says.
 std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view);
+
+// A PCL cloud of PointXYZ as a PointCloud2 with float32 x y z and PCL's 16-byte point layout,
+// organized layout kept (for bags and benchmarks).
+sensor_msgs::PointCloud2 cloudMessage(const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                                      const std_msgs::Header& header);
 
 // The planes as a message with `header` (the reference frame and the cloud's stamp).
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);

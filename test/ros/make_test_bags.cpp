@@ -3,7 +3,6 @@
 // IMU), and the TUM freiburg1_desk frame from ../shared/data with its ground-truth pose as tf
 // and as IMU orientation (skipped when the data is absent).
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,6 +15,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "../../src/ros/cloud_conversion.h"
 #include "hope/depth_image.h"
 #include "hope/gravity_alignment.h"
 #include "hope/synthetic/scene.h"
@@ -27,28 +27,10 @@ const char* kImuFrame = "imu_link";
 
 sensor_msgs::PointCloud2 toMessage(const pcl::PointCloud<pcl::PointXYZ>& cloud, ros::Time stamp,
                                    const std::string& frame) {
-  sensor_msgs::PointCloud2 msg;
-  msg.header.stamp = stamp;
-  msg.header.frame_id = frame;
-  msg.width = cloud.width;
-  msg.height = cloud.height;
-  const char* names[3] = {"x", "y", "z"};
-  for (std::uint32_t k = 0; k < 3; ++k) {
-    sensor_msgs::PointField f;
-    f.name = names[k];
-    f.offset = 4 * k;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    msg.fields.push_back(f);
-  }
-  msg.point_step = 16;  // like PCL's PointXYZ: x y z and padding
-  msg.row_step = msg.point_step * msg.width;
-  msg.is_dense = false;
-  msg.data.resize(static_cast<std::size_t>(msg.row_step) * msg.height);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    std::memcpy(msg.data.data() + i * 16, cloud.points[i].data, 12);
-  }
-  return msg;
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = frame;
+  return hope_ros::cloudMessage(cloud, header);
 }
 
 geometry_msgs::TransformStamped transform(const Eigen::Isometry3d& parent_from_child,

@@ -19,6 +19,7 @@
 #include "hope/evaluation/segmentation_metrics.h"
 #include "hope/extractor.h"
 #include "hope/synthetic/paper_scenes.h"
+#include "hope/tools/cli.h"
 #include "hope/tools/overlay.h"
 
 namespace {
@@ -361,14 +362,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "hope_eval: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "hope_eval: error: " << e.what() << "\n";
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return hope::tools::runTool("hope_eval", run, argc, argv); }

@@ -18,6 +18,7 @@
 
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/tools/cli.h"
 #include "hope/tools/io.h"
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
@@ -362,14 +363,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "hope_extract: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "hope_extract: error: " << e.what() << "\n";
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return hope::tools::runTool("hope_extract", run, argc, argv); }

@@ -17,6 +17,7 @@
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope/synthetic/sequences.h"
+#include "hope/tools/cli.h"
 
 namespace {
 
@@ -249,14 +250,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "hope_track_eval: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "hope_track_eval: error: " << e.what() << "\n";
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return hope::tools::runTool("hope_track_eval", run, argc, argv); }

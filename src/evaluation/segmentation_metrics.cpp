@@ -37,42 +37,37 @@ HooverScores hooverScores(const std::vector<int>& truth, const std::vector<int>&
       found_done.insert(n);
     }
   }
-  // Over-segmentation: found regions lying mostly inside one truth region and covering it.
-  for (const auto& [m, size] : truth_size) {
-    if (truth_done.count(m)) continue;
-    std::vector<int> parts;
-    double covered = 0;
-    for (const auto& [pair, common] : overlap) {
-      const int n = pair.second;
-      if (pair.first == m && !found_done.count(n) && common >= threshold * found_size[n]) {
-        parts.push_back(n);
-        covered += common;
+  // One region of one side split into two or more regions of the other: each part lies
+  // mostly inside it and together they cover it. Over-segmentation splits a truth region into
+  // found ones, under-segmentation the other way round.
+  auto countSplits = [&](bool truth_is_whole) {
+    const auto& whole_size = truth_is_whole ? truth_size : found_size;
+    const auto& part_size = truth_is_whole ? found_size : truth_size;
+    auto& whole_done = truth_is_whole ? truth_done : found_done;
+    auto& part_done = truth_is_whole ? found_done : truth_done;
+    std::size_t splits = 0;
+    for (const auto& [whole, size] : whole_size) {
+      if (whole_done.count(whole)) continue;
+      std::vector<int> parts;
+      double covered = 0;
+      for (const auto& [pair, common] : overlap) {
+        const int w = truth_is_whole ? pair.first : pair.second;
+        const int part = truth_is_whole ? pair.second : pair.first;
+        if (w == whole && !part_done.count(part) && common >= threshold * part_size.at(part)) {
+          parts.push_back(part);
+          covered += common;
+        }
+      }
+      if (parts.size() >= 2 && covered >= threshold * size) {
+        ++splits;
+        whole_done.insert(whole);
+        part_done.insert(parts.begin(), parts.end());
       }
     }
-    if (parts.size() >= 2 && covered >= threshold * size) {
-      ++s.over_segmented;
-      truth_done.insert(m);
-      found_done.insert(parts.begin(), parts.end());
-    }
-  }
-  // Under-segmentation: truth regions lying mostly inside one found region and covering it.
-  for (const auto& [n, size] : found_size) {
-    if (found_done.count(n)) continue;
-    std::vector<int> parts;
-    double covered = 0;
-    for (const auto& [pair, common] : overlap) {
-      const int m = pair.first;
-      if (pair.second == n && !truth_done.count(m) && common >= threshold * truth_size[m]) {
-        parts.push_back(m);
-        covered += common;
-      }
-    }
-    if (parts.size() >= 2 && covered >= threshold * size) {
-      ++s.under_segmented;
-      found_done.insert(n);
-      truth_done.insert(parts.begin(), parts.end());
-    }
-  }
+    return splits;
+  };
+  s.over_segmented = countSplits(true);
+  s.under_segmented = countSplits(false);
   s.missed = s.truth_regions - truth_done.size();
   s.noise = s.found_regions - found_done.size();
   return s;

@@ -85,11 +85,19 @@ TEST_F(Cli, UnorganizedPcdGivesATopDownOverlayAndOneLabelPerPoint) {
   EXPECT_FALSE(cv::imread(dir_ + "/o.png").empty());
 }
 
-TEST_F(Cli, ErrorsGoToStderrWithANonZeroExit) {
-  EXPECT_EQ(run("").exit_code, 2);
-  CliRun r = run("--input /nonexistent.pcd");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("cannot open"), std::string::npos) << r.output;
+TEST_F(Cli, ErrorsGoToStderrWithTheirExitCode) {
+  CliRun r = run("");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(
+      r.output.find("hope_extract: error: give exactly one of --input, --depth or --sequence"),
+      std::string::npos)
+      << r.output;
+  r = run("--input /nonexistent.pcd");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("hope_extract: error: '/nonexistent.pcd' cannot be opened: No such file "
+                          "or directory"),
+            std::string::npos)
+      << r.output;
   r = run("--input x.pcd --r-xy -1");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("r_xy"), std::string::npos) << r.output;
@@ -98,19 +106,27 @@ TEST_F(Cli, ErrorsGoToStderrWithANonZeroExit) {
   EXPECT_NE(r.output.find("zero length"), std::string::npos) << r.output;
   r = run("--input x.pcd --rpy \"1 2\"");
   EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--rpy: expected 3 numbers, got 2"), std::string::npos) << r.output;
   r = run("--bogus");
-  EXPECT_NE(r.output.find("unknown option"), std::string::npos) << r.output;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("unknown option '--bogus'"), std::string::npos) << r.output;
 
   // A PCD without a z field.
   std::ofstream(dir_ + "/xy.pcd")
       << "VERSION .7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\n"
          "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2\n";
   r = run("--input " + dir_ + "/xy.pcd");
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("no 'z' field"), std::string::npos) << r.output;
-  // A file that is not a cloud.
-  std::ofstream(dir_ + "/junk.pcd") << "hello";
-  EXPECT_NE(run("--input " + dir_ + "/junk.pcd").exit_code, 0);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("xy.pcd' has no 'z' field; hope needs x, y, z"), std::string::npos)
+      << r.output;
+  // A PCD whose x is an integer: not metres.
+  std::ofstream(dir_ + "/int.pcd")
+      << "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE I F F\nCOUNT 1 1 1\n"
+         "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 3\n";
+  r = run("--input " + dir_ + "/int.pcd");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("int.pcd' field 'x' is not floating point"), std::string::npos)
+      << r.output;
 }
 
 }  // namespace test

@@ -38,6 +38,10 @@ geometry_msgs::Point point(const Eigen::Vector3d& p) {
 }  // namespace
 
 std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view) {
+  // Every size below comes from the message: the arithmetic is 64-bit (the header's fields are
+  // 32-bit, so sums and products of two of them cannot wrap) and the one product of three is
+  // checked, so a hostile header cannot make a bounds check pass by overflow.
+  const std::uint64_t point_step = cloud.point_step;
   const char* names[3] = {"x", "y", "z"};
   std::size_t offsets[3];
   for (int k = 0; k < 3; ++k) {
@@ -45,27 +49,32 @@ std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view
     if (!f) return std::string("the cloud has no '") + names[k] + "' field";
     if (f->datatype != sensor_msgs::PointField::FLOAT32 || f->count != 1) {
       return std::string("field '") + names[k] + "' is not a single float32 (datatype " +
-             std::to_string(f->datatype) + ")";
+             std::to_string(f->datatype) + ", count " + std::to_string(f->count) + ")";
     }
-    if (f->offset + 4 > cloud.point_step) {
-      return std::string("field '") + names[k] + "' lies outside point_step";
+    if (std::uint64_t(f->offset) + sizeof(float) > point_step) {
+      return std::string("field '") + names[k] + "' (offset " + std::to_string(f->offset) +
+             ") lies outside point_step " + std::to_string(point_step);
     }
     offsets[k] = f->offset;
   }
   if (cloud.is_bigendian) return "big-endian clouds are not supported";
-  const std::size_t count = static_cast<std::size_t>(cloud.width) * cloud.height;
-  if (count > 0 && cloud.row_step != cloud.width * cloud.point_step) {
-    return "rows are padded (row_step " + std::to_string(cloud.row_step) +
-           " != width · point_step)";
+  const std::uint64_t count = std::uint64_t(cloud.width) * cloud.height;
+  if (count > 0 && std::uint64_t(cloud.row_step) != std::uint64_t(cloud.width) * point_step) {
+    return "rows are padded or row_step is wrong (row_step " + std::to_string(cloud.row_step) +
+           " != width " + std::to_string(cloud.width) + " x point_step " +
+           std::to_string(point_step) + ")";
   }
-  if (cloud.data.size() < count * cloud.point_step) {
-    return "the data holds " + std::to_string(cloud.data.size()) + " bytes, the header says " +
-           std::to_string(count * cloud.point_step);
+  // row_step == width · point_step fits in 32 bits here, so height · row_step fits in 64.
+  const std::uint64_t needed = count > 0 ? std::uint64_t(cloud.height) * cloud.row_step : 0;
+  if (cloud.data.size() < needed) {
+    return "the data holds " + std::to_string(cloud.data.size()) + " bytes, the header (width " +
+           std::to_string(cloud.width) + ", height " + std::to_string(cloud.height) +
+           ", point_step " + std::to_string(point_step) + ") says " + std::to_string(needed);
   }
   view = hope::PointsView();
   view.data = cloud.data.empty() ? nullptr : cloud.data.data();
-  view.count = count;
-  view.stride = cloud.point_step;
+  view.count = static_cast<std::size_t>(count);
+  view.stride = static_cast<std::size_t>(point_step);
   view.x_offset = offsets[0];
   view.y_offset = offsets[1];
   view.z_offset = offsets[2];

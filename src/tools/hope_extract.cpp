@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -20,6 +22,7 @@
 #include "hope/plane_tracker.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
+#include "hope/tools/output_file.h"
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
 #include "hope/tools/sequence.h"
@@ -67,8 +70,11 @@ parameters
                          atan(r_z / r_xy) are rejected
   --min-height M, --max-height M  keep planes inside this height band
   --min-area M2          keep planes of at least this footprint
+  --max-points N         refuse files claiming more points (default 100000000), so a
+                         corrupt header cannot make hope allocate gigabytes
 
-output
+output (each written under a temporary name and renamed when complete: a failed run
+leaves no partial file)
   --json FILE            every plane field as JSON
   --labels FILE.pcd      x y z label per input point, same order (0 = none, k = id + 1)
   --overlay FILE.png     picture: tinted image for image-like input, top-down view otherwise
@@ -89,7 +95,8 @@ Options parse(int argc, char** argv) {
                                   "--max-height",  "--min-area",      "--json",
                                   "--labels",      "--overlay",       "--sequence",
                                   "--groundtruth", "--accelerometer", "--max-time-difference",
-                                  "--tracking",    "--jsonl",         "--overlay-dir"};
+                                  "--tracking",    "--jsonl",         "--overlay-dir",
+                                  "--max-points"};
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -114,6 +121,14 @@ double number(const Options& o, const std::string& key, double fallback) {
   const auto it = o.values.find(key);
   if (it == o.values.end()) return fallback;
   return hope::tools::parseNumbers(it->second, 1, key.c_str())[0];
+}
+
+std::uint64_t maxPoints(const Options& o) {
+  const double value = number(o, "--max-points", double(hope::tools::kDefaultMaxPoints));
+  if (!(value >= 1 && value <= 1e12) || value != std::floor(value)) {
+    throw std::invalid_argument("--max-points must be a whole number in [1, 1e12]");
+  }
+  return static_cast<std::uint64_t>(value);
 }
 
 hope::Orientation orientation(const Options& o) {
@@ -230,16 +245,21 @@ int runSequence(const Options& o) {
               << " frame(s) with no orientation within " << seq.max_time_difference << " s\n";
   }
 
+  const hope::PinholeIntrinsics k = intrinsics(o);
+  const double depth_scale = number(o, "--depth-scale", 5000);
+  const std::uint64_t max_points = maxPoints(o);
+  // Outputs last, after every argument was checked; the JSON lines are renamed into place
+  // only when the whole sequence succeeded.
+  std::unique_ptr<hope::tools::OutputFile> jsonl_file;
   std::ofstream jsonl;
   if (o.values.count("--jsonl")) {
-    jsonl.open(o.values.at("--jsonl"));
-    if (!jsonl) throw std::runtime_error("cannot write '" + o.values.at("--jsonl") + "'");
+    jsonl_file = std::make_unique<hope::tools::OutputFile>(o.values.at("--jsonl"));
+    jsonl.open(jsonl_file->writePath());
+    if (!jsonl) hope::tools::throwCannotWrite(jsonl_file->path());
   }
   const std::string overlay_dir =
       o.values.count("--overlay-dir") ? o.values.at("--overlay-dir") : "";
   if (!overlay_dir.empty()) std::filesystem::create_directories(overlay_dir);
-  const hope::PinholeIntrinsics k = intrinsics(o);
-  const double depth_scale = number(o, "--depth-scale", 5000);
 
   Progress progress(listing.frames.size(), !o.quiet);
   std::set<int> ids;
@@ -250,7 +270,7 @@ int runSequence(const Options& o) {
     const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
     const hope::tools::InputCloud input =
         frame.depth.empty()
-            ? hope::tools::loadCloud(frame.cloud)
+            ? hope::tools::loadCloud(frame.cloud, max_points)
             : hope::tools::loadDepth(frame.depth, overlay_dir.empty() ? "" : frame.rgb, k,
                                      depth_scale);
     hope::Result result = extractor.extract(
@@ -283,14 +303,19 @@ int runSequence(const Options& o) {
     if (!overlay_dir.empty()) {
       char name[64];
       std::snprintf(name, sizeof(name), "/%.6f.png", frame.stamp);
-      const cv::Mat image = hope::tools::renderOverlay(input.cloud, input.has_color,
-                                                       extractor.alignedPoints(), result);
-      if (!cv::imwrite(overlay_dir + name, image))
-        throw std::runtime_error("cannot write '" + overlay_dir + name + "'");
+      hope::tools::OutputFile overlay(overlay_dir + name);
+      hope::tools::writeImage(overlay,
+                              hope::tools::renderOverlay(input.cloud, input.has_color,
+                                                         extractor.alignedPoints(), result));
+      overlay.commit();
     }
     progress.update(f + 1);
   }
-  if (jsonl.is_open() && !jsonl) throw std::runtime_error("writing the JSON lines failed");
+  if (jsonl_file) {
+    jsonl.close();
+    if (jsonl.fail()) hope::tools::throwCannotWrite(jsonl_file->path());
+    jsonl_file->commit();
+  }
   const double n = static_cast<double>(listing.frames.size());
   std::printf(
       "%zu frame(s) of %s (%s, %s tracking): %.1f planes/frame, %zu distinct ids, extraction "
@@ -322,15 +347,23 @@ int run(int argc, char** argv) {
 
   hope::Extractor extractor(parameters(o));  // validates before any file is read
   const hope::Orientation pose = orientation(o);
+  const std::uint64_t max_points = maxPoints(o);
+  const double depth_scale = number(o, "--depth-scale", 5000);
+  const hope::PinholeIntrinsics k = intrinsics(o);
+  // Every output is opened (as a temporary) after the arguments were checked and before the
+  // work, so an unwritable one fails at once; all are renamed into place at the end, so a
+  // failure leaves none of them behind.
+  std::map<std::string, hope::tools::OutputFile> outputs;
+  for (const char* key : {"--json", "--labels", "--overlay"}) {
+    if (o.values.count(key)) outputs.emplace(key, hope::tools::OutputFile(o.values.at(key)));
+  }
 
   hope::tools::InputCloud input;
   if (has_input) {
-    input = hope::tools::loadCloud(o.values.at("--input"));
+    input = hope::tools::loadCloud(o.values.at("--input"), max_points);
   } else {
-    const hope::PinholeIntrinsics k = intrinsics(o);
     const auto rgb = o.values.count("--rgb") ? o.values.at("--rgb") : std::string();
-    input =
-        hope::tools::loadDepth(o.values.at("--depth"), rgb, k, number(o, "--depth-scale", 5000));
+    input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale);
   }
 
   const hope::Result result = extractor.extract(input.cloud, pose);
@@ -338,26 +371,24 @@ int run(int argc, char** argv) {
     std::cerr << "hope_extract: warning: " << warning << "\n";
   if (!o.quiet) hope::tools::printTable(std::cout, result);
 
-  if (o.values.count("--json")) {
-    std::ofstream out(o.values.at("--json"));
-    if (!out) throw std::runtime_error("cannot write '" + o.values.at("--json") + "'");
-    hope::tools::writeJson(out, result);
+  if (outputs.count("--json")) {
+    hope::tools::writeText(outputs.at("--json"),
+                           [&](std::ostream& out) { hope::tools::writeJson(out, result); });
   }
-  if (o.values.count("--labels")) {
+  if (outputs.count("--labels")) {
     std::vector<std::uint32_t> labels(result.point_labels.size());
     for (std::size_t i = 0; i < labels.size(); ++i) {
       const int index = result.point_labels[i];
       labels[i] = index < 0 ? 0u : static_cast<std::uint32_t>(result.planes[index].id + 1);
     }
-    hope::tools::writeLabels(o.values.at("--labels"), input.cloud, labels);
+    hope::tools::writeLabels(outputs.at("--labels"), input.cloud, labels);
   }
-  if (o.values.count("--overlay")) {
-    const cv::Mat image =
-        hope::tools::renderOverlay(input.cloud, input.has_color, extractor.alignedPoints(), result);
-    if (!cv::imwrite(o.values.at("--overlay"), image)) {
-      throw std::runtime_error("cannot write '" + o.values.at("--overlay") + "'");
-    }
+  if (outputs.count("--overlay")) {
+    hope::tools::writeImage(outputs.at("--overlay"),
+                            hope::tools::renderOverlay(input.cloud, input.has_color,
+                                                       extractor.alignedPoints(), result));
   }
+  for (auto& output : outputs) output.second.commit();
   return 0;
 }
 

@@ -1,26 +1,23 @@
 #include "hope/tools/io.h"
 
+#include <cerrno>
+#include <cstring>
+
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include <pcl/PCLPointCloud2.h>
-#include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <opencv2/imgcodecs.hpp>
+
+#include "hope/tools/cloud_file_check.h"
 
 namespace hope {
 namespace tools {
 
 namespace {
-
-bool endsWith(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  std::string tail = s.substr(s.size() - suffix.size());
-  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return tail == suffix;
-}
 
 const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& blob, const std::string& name) {
   for (const auto& field : blob.fields) {
@@ -46,56 +43,110 @@ pcl::PointCloud<pcl::PointXYZRGB> withGreyColor(const pcl::PointCloud<pcl::Point
   return out;
 }
 
-void requireReadable(const std::string& path) {
-  std::ifstream probe(path);
-  if (!probe) throw std::runtime_error("cannot open '" + path + "' (missing or unreadable)");
+// Reads one float32 or float64 value (the only types loadCloud accepts for x, y, z).
+float readCoordinate(const std::uint8_t* point, const pcl::PCLPointField& field) {
+  if (field.datatype == pcl::PCLPointField::FLOAT64) {
+    double value;
+    std::memcpy(&value, point + field.offset, sizeof(value));
+    return static_cast<float>(value);
+  }
+  float value;
+  std::memcpy(&value, point + field.offset, sizeof(value));
+  return value;
 }
 
-}  // namespace
-
-InputCloud loadCloud(const std::string& path) {
-  requireReadable(path);
-  pcl::PCLPointCloud2 blob;
-  int status = -1;
-  if (endsWith(path, ".pcd")) {
-    status = pcl::io::loadPCDFile(path, blob);
-  } else if (endsWith(path, ".ply")) {
-    status = pcl::io::loadPLYFile(path, blob);
-  } else {
-    throw std::runtime_error("'" + path + "' is neither .pcd nor .ply");
+std::size_t byteSize(std::uint8_t datatype) {
+  switch (datatype) {
+    case pcl::PCLPointField::INT8:
+    case pcl::PCLPointField::UINT8:
+      return 1;
+    case pcl::PCLPointField::INT16:
+    case pcl::PCLPointField::UINT16:
+      return 2;
+    case pcl::PCLPointField::FLOAT64:
+      return 8;
+    default:
+      return 4;
   }
-  if (status < 0) throw std::runtime_error("'" + path + "' could not be parsed as a point cloud");
-  for (const char* axis : {"x", "y", "z"}) {
-    const pcl::PCLPointField* field = findField(blob, axis);
-    if (!field) {
-      throw std::runtime_error("'" + path + "' has no '" + axis + "' field; hope needs x, y, z");
+}
+
+// The blob's points as PointXYZRGB, read field by field with every offset checked against the
+// point size (PCL's own conversion maps a float64 x to nothing and leaves zeros).
+InputCloud fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob) {
+  const std::uint64_t count = std::uint64_t(blob.width) * blob.height;
+  const std::uint64_t step = blob.point_step;
+  if (count > 0 && (step == 0 || blob.data.size() / step < count)) {
+    throw std::runtime_error("'" + path + "' holds " + std::to_string(blob.data.size()) +
+                             " bytes of points, fewer than its " + std::to_string(count) +
+                             " points need");
+  }
+  const pcl::PCLPointField* axes[3];
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    axes[k] = findField(blob, names[k]);
+    if (!axes[k]) {
+      throw std::runtime_error("'" + path + "' has no '" + names[k] +
+                               "' field; hope needs x, y, z");
     }
-    if (field->datatype != pcl::PCLPointField::FLOAT32 &&
-        field->datatype != pcl::PCLPointField::FLOAT64) {
-      throw std::runtime_error("'" + path + "' field '" + axis +
+    if (axes[k]->datatype != pcl::PCLPointField::FLOAT32 &&
+        axes[k]->datatype != pcl::PCLPointField::FLOAT64) {
+      throw std::runtime_error("'" + path + "' field '" + names[k] +
                                "' is not floating point; hope needs x, y, z in metres");
     }
   }
+  const pcl::PCLPointField* color = findField(blob, "rgb");
+  if (!color) color = findField(blob, "rgba");
+  if (color && byteSize(color->datatype) != 4) color = nullptr;  // not a packed colour
+  for (const pcl::PCLPointField* f : {axes[0], axes[1], axes[2], color}) {
+    if (f && std::uint64_t(f->offset) + byteSize(f->datatype) > step) {
+      throw std::runtime_error("'" + path + "' field '" + f->name + "' lies outside its point");
+    }
+  }
   InputCloud input;
-  input.has_color = findField(blob, "rgb") || findField(blob, "rgba");
-  if (input.has_color) {
-    pcl::fromPCLPointCloud2(blob, input.cloud);
-  } else {
-    pcl::PointCloud<pcl::PointXYZ> xyz;
-    pcl::fromPCLPointCloud2(blob, xyz);
-    input.cloud = withGreyColor(xyz);
+  input.has_color = color != nullptr;
+  input.cloud.resize(static_cast<std::size_t>(count));
+  input.cloud.width = blob.width;
+  input.cloud.height = blob.height;
+  input.cloud.is_dense = blob.is_dense;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint8_t* point = blob.data.data() + i * step;
+    pcl::PointXYZRGB& p = input.cloud[i];
+    p.x = readCoordinate(point, *axes[0]);
+    p.y = readCoordinate(point, *axes[1]);
+    p.z = readCoordinate(point, *axes[2]);
+    if (color) {
+      std::uint32_t rgb;
+      std::memcpy(&rgb, point + color->offset, sizeof(rgb));
+      p.r = static_cast<std::uint8_t>(rgb >> 16);
+      p.g = static_cast<std::uint8_t>(rgb >> 8);
+      p.b = static_cast<std::uint8_t>(rgb);
+    } else {
+      p.r = p.g = p.b = 160;
+    }
   }
   return input;
 }
 
+}  // namespace
+
+InputCloud loadCloud(const std::string& path, std::uint64_t max_points) {
+  // PCL trusts the header it reads; it is checked first (sizes, file type, truncation).
+  const CloudFormat format = checkCloudFile(path, max_points);
+  pcl::PCLPointCloud2 blob;
+  const int status = format == CloudFormat::kPcd ? pcl::io::loadPCDFile(path, blob)
+                                                 : pcl::io::loadPLYFile(path, blob);
+  if (status < 0) throw std::runtime_error("'" + path + "' could not be parsed as a point cloud");
+  return fromBlob(path, blob);
+}
+
 InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
                      const PinholeIntrinsics& intrinsics, double depth_scale) {
-  requireReadable(depth_path);
+  requireRegularFile(depth_path);
   const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
   if (depth.empty()) throw std::runtime_error("'" + depth_path + "' is not a readable image");
   InputCloud input;
   if (!rgb_path.empty()) {
-    requireReadable(rgb_path);
+    requireRegularFile(rgb_path);
     const cv::Mat rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
     if (rgb.empty()) throw std::runtime_error("'" + rgb_path + "' is not a readable image");
     input.cloud = depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
@@ -106,7 +157,7 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
   return input;
 }
 
-void writeLabels(const std::string& path, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
+void writeLabels(const OutputFile& file, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
                  const std::vector<std::uint32_t>& labels) {
   pcl::PointCloud<pcl::PointXYZL> out;
   out.resize(cloud.size());
@@ -119,9 +170,18 @@ void writeLabels(const std::string& path, const pcl::PointCloud<pcl::PointXYZRGB
   out.width = cloud.width;
   out.height = cloud.height;
   out.is_dense = cloud.is_dense;
-  if (pcl::io::savePCDFileBinary(path, out) < 0) {
-    throw std::runtime_error("cannot write '" + path + "'");
+  errno = 0;
+  if (pcl::io::savePCDFileBinary(file.writePath(), out) < 0) throwCannotWrite(file.path());
+}
+
+void writeImage(const OutputFile& file, const cv::Mat& image) {
+  errno = 0;
+  bool written = false;
+  try {
+    written = cv::imwrite(file.writePath(), image);
+  } catch (const cv::Exception&) {  // e.g. an extension OpenCV has no encoder for
   }
+  if (!written) throwCannotWrite(file.path());
 }
 
 std::vector<double> parseNumbers(const std::string& text, std::size_t count, const char* what) {

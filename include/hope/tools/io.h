@@ -6,8 +6,11 @@
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <opencv2/core.hpp>
 
 #include "hope/depth_image.h"
+#include "hope/tools/cloud_file_check.h"
+#include "hope/tools/output_file.h"
 
 namespace hope {
 namespace tools {
@@ -17,9 +20,11 @@ struct InputCloud {
   bool has_color = false;
 };
 
-// Reads a .pcd or .ply file. Throws std::runtime_error with a readable message when the file
-// is missing, unreadable, or lacks float x, y, z fields.
-InputCloud loadCloud(const std::string& path);
+// Reads a .pcd or .ply file; x, y, z may be float32 or float64. Throws std::runtime_error with
+// a message naming the file and the problem when it is missing, unreadable, not a regular
+// file, malformed, truncated, claims more than `max_points` points (see checkCloudFile), or
+// lacks floating-point x, y, z fields.
+InputCloud loadCloud(const std::string& path, std::uint64_t max_points = kDefaultMaxPoints);
 
 // Reads a depth PNG (16-bit raw units or 32-bit float metres) and, optionally, a registered
 // colour image, and back-projects them into an organized cloud in the camera optical frame.
@@ -27,9 +32,13 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
                      const PinholeIntrinsics& intrinsics, double depth_scale);
 
 // Writes x, y, z (as read) and one `label` per input point, same count, order and
-// width × height as the input.
-void writeLabels(const std::string& path, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
+// width × height as the input, as binary PCD. Throws std::runtime_error when it cannot.
+void writeLabels(const OutputFile& file, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
                  const std::vector<std::uint32_t>& labels);
+
+// Writes an image in the format of the file's extension (.png, .jpg, …); throws
+// std::runtime_error when it cannot.
+void writeImage(const OutputFile& file, const cv::Mat& image);
 
 // Parses exactly `count` whitespace-separated numbers, e.g. "517.3 516.5 318.6 255.3".
 // Throws std::invalid_argument naming `what` otherwise.

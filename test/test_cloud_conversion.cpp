@@ -1,0 +1,114 @@
+// Reading a PointCloud2 in place: every size in the header comes from outside and is checked
+// without overflow, so a hostile message is refused with a reason instead of read out of bounds.
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "../src/ros/cloud_conversion.h"
+
+namespace hope {
+namespace test {
+
+namespace {
+
+// A valid 2-point unorganized cloud with PCL's 16-byte layout (x y z and padding).
+sensor_msgs::PointCloud2 twoPoints() {
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  cloud.push_back(pcl::PointXYZ(1, 2, 3));
+  cloud.push_back(pcl::PointXYZ(4, 5, 6));
+  return hope_ros::cloudMessage(cloud, std_msgs::Header());
+}
+
+std::string problemOf(const sensor_msgs::PointCloud2& msg) {
+  hope::PointsView view;
+  return hope_ros::viewOf(msg, view);
+}
+
+bool mentions(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(CloudConversion, ValidCloudIsReadInPlace) {
+  const sensor_msgs::PointCloud2 msg = twoPoints();
+  hope::PointsView view;
+  ASSERT_EQ(hope_ros::viewOf(msg, view), "");
+  ASSERT_EQ(view.count, 2u);
+  EXPECT_EQ(view.data, msg.data.data());
+  EXPECT_FLOAT_EQ(view.x(1), 4);
+  EXPECT_FLOAT_EQ(view.z(0), 3);
+}
+
+TEST(CloudConversion, FieldOffsetThatWouldWrapIn32BitsIsRefused) {
+  sensor_msgs::PointCloud2 msg = twoPoints();
+  // offset + 4 wraps to 1 in 32-bit arithmetic, which is below point_step 16.
+  msg.fields[2].offset = std::numeric_limits<std::uint32_t>::max() - 2;
+  const std::string problem = problemOf(msg);
+  EXPECT_TRUE(mentions(problem, "field 'z'")) << problem;
+  EXPECT_TRUE(mentions(problem, "outside point_step")) << problem;
+}
+
+TEST(CloudConversion, RowStepThatWouldWrapIn32BitsIsRefused) {
+  sensor_msgs::PointCloud2 msg = twoPoints();
+  // width · point_step = 2^28 · 16 = 2^32 wraps to 0 in 32 bits: row_step 0 matched it.
+  msg.width = 1u << 28;
+  msg.row_step = 0;
+  const std::string problem = problemOf(msg);
+  EXPECT_TRUE(mentions(problem, "row_step")) << problem;
+  // 2^30 x 2^30 points of 16 bytes: 2^64 bytes, 0 in 64-bit arithmetic, and the row check
+  // 2^34 wraps to 0 in 32 bits. Both checks passed before; the read went gigabytes astray.
+  msg.width = msg.height = 1u << 30;
+  EXPECT_TRUE(mentions(problemOf(msg), "row_step"));
+}
+
+TEST(CloudConversion, HeaderClaimingMoreDataThanTheBufferIsRefused) {
+  sensor_msgs::PointCloud2 msg = twoPoints();
+  // 65535 · 65537 = 2^32 - 1 points: their byte count overflows 32 bits many times over.
+  msg.width = 65535;
+  msg.height = 65537;
+  msg.row_step = msg.width * msg.point_step;
+  const std::string problem = problemOf(msg);
+  EXPECT_TRUE(mentions(problem, "the data holds 32 bytes")) << problem;
+  // Largest header of all: every dimension at its maximum.
+  msg.width = msg.height = std::numeric_limits<std::uint32_t>::max();
+  msg.point_step = std::numeric_limits<std::uint32_t>::max();
+  msg.row_step = std::numeric_limits<std::uint32_t>::max();
+  EXPECT_FALSE(problemOf(msg).empty());
+}
+
+TEST(CloudConversion, ZeroPointStepAndMissingOrWrongFieldsAreRefused) {
+  sensor_msgs::PointCloud2 msg = twoPoints();
+  msg.point_step = 0;
+  msg.row_step = 0;
+  EXPECT_TRUE(mentions(problemOf(msg), "outside point_step"));
+  msg = twoPoints();
+  msg.fields.pop_back();
+  EXPECT_TRUE(mentions(problemOf(msg), "no 'z' field"));
+  msg = twoPoints();
+  msg.fields[0].datatype = sensor_msgs::PointField::FLOAT64;
+  EXPECT_TRUE(mentions(problemOf(msg), "not a single float32"));
+  msg = twoPoints();
+  msg.fields[1].count = 0;
+  EXPECT_TRUE(mentions(problemOf(msg), "not a single float32"));
+  msg = twoPoints();
+  msg.is_bigendian = true;
+  EXPECT_TRUE(mentions(problemOf(msg), "big-endian"));
+  msg = twoPoints();
+  msg.data.resize(31);
+  EXPECT_TRUE(mentions(problemOf(msg), "the data holds 31 bytes"));
+}
+
+TEST(CloudConversion, EmptyCloudIsValid) {
+  sensor_msgs::PointCloud2 msg = twoPoints();
+  msg.width = 0;
+  msg.row_step = 0;
+  msg.data.clear();
+  hope::PointsView view;
+  EXPECT_EQ(hope_ros::viewOf(msg, view), "");
+  EXPECT_EQ(view.count, 0u);
+}
+
+}  // namespace test
+}  // namespace hope

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "helpers.h"
+#include "hope/box_index.h"
 #include "hope/evaluation/tracking_metrics.h"
 #include "hope/optimal_assignment.h"
 #include "hope/plane_matching.h"
@@ -97,6 +98,83 @@ TEST(OptimalAssignment, FindsTheMinimumTotalCost) {
   EXPECT_EQ(solveAssignment(wide), (std::vector<int>{1, 0}));
   EXPECT_EQ(solveAssignment(wide.transpose()), (std::vector<int>{1, 0, -1, -1}));
   EXPECT_TRUE(solveAssignment(Eigen::MatrixXd(0, 3)).empty());
+}
+
+TEST(OptimalAssignment, SparsePairsWithAnUnpairedCostPairOnlyWhatIsWorthIt) {
+  // Rows 0-1 compete for columns 0-1 (optimum 2 + 2, not the greedy 1 + 5); row 2 and column 2
+  // form their own component; row 3's only pair costs more than leaving both unpaired (2 x 3).
+  const std::vector<CandidatePair> pairs = {{0, 0, 1}, {0, 1, 2},   {1, 0, 2},
+                                            {1, 1, 5}, {2, 2, 0.5}, {3, 3, 7}};
+  const SparseAssignment a = assignWithUnpairedCost(pairs, 4, 5, 3.0);
+  EXPECT_EQ(a.col_of_row, (std::vector<int>{1, 0, 2, -1}));
+  // Pairs 2 + 2 + 0.5, and row 3, columns 3 and 4 left out at 3 each.
+  EXPECT_DOUBLE_EQ(a.total_cost, 4.5 + 3 * 3.0);
+  // Above the exact size, the component is paired greedily: cheapest pair first.
+  const SparseAssignment greedy = assignWithUnpairedCost(pairs, 4, 5, 3.0, 3);
+  EXPECT_EQ(greedy.col_of_row, (std::vector<int>{0, 1, 2, -1}));
+  EXPECT_TRUE(assignWithUnpairedCost({}, 0, 0, 1.0).col_of_row.empty());
+}
+
+TEST(BoxIndex, FindsEveryBoxWithinTheMarginsOnceAndFewOthers) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 20.0);
+  std::vector<BoxIndex::Box> boxes;
+  std::vector<double> heights;
+  for (int i = 0; i < 400; ++i) {
+    const double x = u(rng), y = u(rng);
+    boxes.push_back({x, y, x + 0.05 * u(rng), y + 0.05 * u(rng)});
+    heights.push_back(0.1 * u(rng));
+  }
+  boxes.push_back({-5, -5, 30, 30});  // a floor under everything
+  heights.push_back(0.0);
+  boxes.push_back({NAN, 0, 1, 1});  // never found
+  heights.push_back(0.0);
+  boxes.push_back({1e9, 1e9, 1e9 + 1, 1e9 + 1});  // far out: found by nearby queries only
+  heights.push_back(0.0);
+  BoxIndex index;
+  index.rebuild(boxes, heights, 0.8, 0.1);
+  const double margin = 0.4, height_margin = 0.05;
+  std::size_t near = 0, visited = 0;
+  for (std::size_t q = 0; q < boxes.size(); ++q) {
+    const BoxIndex::Box& query = boxes[q];
+    std::vector<int> count(boxes.size(), 0);
+    index.forEachNear(query, heights[q], margin, height_margin, [&](int i) { ++count[i]; });
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const double gx = std::max({query[0] - boxes[i][2], boxes[i][0] - query[2], 0.0});
+      const double gy = std::max({query[1] - boxes[i][3], boxes[i][1] - query[3], 0.0});
+      const bool finite = std::isfinite(boxes[i][0]) && std::isfinite(query[0]);
+      const bool within = finite && std::hypot(gx, gy) <= margin &&
+                          std::fabs(heights[i] - heights[q]) <= height_margin;
+      EXPECT_LE(count[i], 1);
+      if (within) {
+        EXPECT_EQ(count[i], 1) << "box " << i << " missed by query " << q;
+      }
+      near += within ? 1 : 0;
+      visited += count[i];
+    }
+  }
+  EXPECT_GT(near, boxes.size());  // more than each box finding itself
+  // Far fewer candidates than all pairs (403²): the index prunes.
+  EXPECT_LT(visited, boxes.size() * boxes.size() / 10);
+}
+
+TEST(PlaneTracker, ThousandFragmentsOfOneSurfaceAreTrackedWithoutSolvingOneHugeProblem) {
+  // 1,000 small fragments of one table top (what r_xy = 1 mm makes of it), all within each
+  // other's gates: one component far beyond the exact size. Each fragment keeps its id.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<HorizontalPlane> scene;
+  for (int i = 0; i < 1000; ++i) {
+    const double x = 2 * u(rng), y = u(rng);
+    scene.push_back(makePlane(0.75, x, y, x + 0.03, y + 0.03));
+  }
+  PlaneTracker tracker(mode(TrackingMode::kImproved));
+  std::vector<HorizontalPlane> frame = scene;
+  tracker.update(frame, 0.0);
+  const std::vector<int> first = idsOf(frame);
+  frame = scene;
+  tracker.update(frame, 0.1);
+  EXPECT_EQ(idsOf(frame), first);
 }
 
 TEST(PlaneTracker, FirstFrameIdsFollowExtractionOrderAndPlanesKeepThem) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "hope/box_index.h"
 #include "hope/plane.h"
 
 namespace hope {
@@ -100,6 +101,11 @@ class PlaneTracker {
   TrackerOptions options_;
   std::vector<Track> tracks_;
   int next_id_ = 0;
+  // Gating indexes and the planes' boxes and heights in compact arrays, kept so that their
+  // memory is reused frame after frame.
+  BoxIndex planes_index_, matched_index_;
+  std::vector<BoxIndex::Box> boxes_;
+  std::vector<double> heights_;
 };
 
 }  // namespace hope

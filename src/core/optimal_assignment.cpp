@@ -1,6 +1,8 @@
 #include "hope/optimal_assignment.h"
 
+#include <algorithm>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 namespace hope {
@@ -74,6 +76,87 @@ std::vector<int> solveAssignment(const Eigen::MatrixXd& cost) {
     if (row_of_col[c] >= 0) col_of_row[row_of_col[c]] = static_cast<int>(c);
   }
   return col_of_row;
+}
+
+SparseAssignment assignWithUnpairedCost(std::vector<CandidatePair> pairs, int rows, int cols,
+                                        double unpaired, int max_exact) {
+  pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                             [&](const CandidatePair& p) { return !(p.cost < 2 * unpaired); }),
+              pairs.end());
+  // Connected components over rows (nodes 0..rows-1) and columns (rows..rows+cols-1).
+  std::vector<int> parent(rows + cols);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const CandidatePair& p : pairs) parent[root(p.row)] = root(rows + p.col);
+  std::vector<int> component(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) component[k] = root(pairs[k].row);
+  std::vector<std::size_t> order(pairs.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (component[a] != component[b]) return component[a] < component[b];
+    return pairs[a].row != pairs[b].row ? pairs[a].row < pairs[b].row : pairs[a].col < pairs[b].col;
+  });
+
+  SparseAssignment result;
+  result.col_of_row.assign(rows, -1);
+  std::vector<char> col_taken(cols, 0);
+  std::vector<int> local_row(rows, -1), local_col(cols, -1);
+  std::vector<int> rs, cs;
+  for (std::size_t begin = 0; begin < order.size();) {
+    std::size_t end = begin;
+    while (end < order.size() && component[order[end]] == component[order[begin]]) ++end;
+    rs.clear();
+    cs.clear();
+    for (std::size_t k = begin; k < end; ++k) {
+      const CandidatePair& p = pairs[order[k]];
+      if (local_row[p.row] < 0) local_row[p.row] = static_cast<int>(rs.size()), rs.push_back(p.row);
+      if (local_col[p.col] < 0) local_col[p.col] = static_cast<int>(cs.size()), cs.push_back(p.col);
+    }
+    const int n = static_cast<int>(rs.size()), m = static_cast<int>(cs.size());
+    if (end - begin == 1) {  // the common case: nothing competes
+      result.col_of_row[rs[0]] = cs[0];
+    } else if (n + m > max_exact) {
+      std::vector<std::size_t> by_cost(order.begin() + begin, order.begin() + end);
+      std::stable_sort(by_cost.begin(), by_cost.end(),
+                       [&](std::size_t a, std::size_t b) { return pairs[a].cost < pairs[b].cost; });
+      for (std::size_t k : by_cost) {
+        const CandidatePair& p = pairs[k];
+        if (result.col_of_row[p.row] >= 0 || col_taken[p.col]) continue;
+        result.col_of_row[p.row] = p.col;
+        col_taken[p.col] = 1;
+      }
+    } else {
+      // [pairs | row unpaired] over [column unpaired | nothing]; absent pairs are forbidden.
+      const double forbidden = 4 * unpaired + 1.0;
+      Eigen::MatrixXd augmented = Eigen::MatrixXd::Constant(n + m, m + n, forbidden);
+      for (std::size_t k = begin; k < end; ++k) {
+        const CandidatePair& p = pairs[order[k]];
+        augmented(local_row[p.row], local_col[p.col]) = p.cost;
+      }
+      for (int i = 0; i < n; ++i) augmented(i, m + i) = unpaired;
+      for (int j = 0; j < m; ++j) augmented(n + j, j) = unpaired;
+      augmented.bottomRightCorner(m, n).setZero();
+      const std::vector<int> sub = solveAssignment(augmented);
+      for (int i = 0; i < n; ++i) {
+        if (sub[i] >= 0 && sub[i] < m && augmented(i, sub[i]) < 2 * unpaired) {
+          result.col_of_row[rs[i]] = cs[sub[i]];
+        }
+      }
+    }
+    for (int r : rs) local_row[r] = -1;
+    for (int c : cs) local_col[c] = -1;
+    begin = end;
+  }
+
+  // The total, from the pairs made (each row's pair looked up among its candidates).
+  result.total_cost = unpaired * static_cast<double>(rows + cols);
+  for (const CandidatePair& p : pairs) {
+    if (result.col_of_row[p.row] == p.col) result.total_cost += p.cost - 2 * unpaired;
+  }
+  return result;
 }
 
 }  // namespace hope

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hope/box_index.h"
 #include "hope/optimal_assignment.h"
 #include "hope/plane_matching.h"
 
@@ -64,6 +65,9 @@ namespace {
 constexpr double kMinBoxSide = 1e-3;
 // Pairs beyond a gate get this cost, which no pairing is worth.
 constexpr double kForbidden = 1e9;
+// A scene motion below both is not compensated: 1 mm, and 0.1 mrad (1 mm at 10 m).
+constexpr double kNegligibleShift = 1e-3;
+constexpr double kNegligibleTurn = 1e-4;
 
 double boxArea(const std::array<double, 4>& b) {
   return std::max(b[2] - b[0], kMinBoxSide) * std::max(b[3] - b[1], kMinBoxSide);
@@ -164,13 +168,16 @@ SceneMotion sinceSeen(const Track& track) {
 // seen only in part still prefers its whole over a neighbour. A tiny bonus for age lets the
 // older id win exact ties. Pairs beyond the gates cost kForbidden.
 constexpr double kIouWeight = 0.8;
-double pairingCost(const Footprint& before, const HorizontalPlane& now, const TrackerOptions& o) {
-  const double dz = std::fabs(now.height - before.height);
+// `now` is a plane's box and height (read from compact arrays: the planes themselves are
+// large structs, and the gating touches many of them).
+double pairingCost(const Footprint& before, const BoxIndex::Box& now_bbox, double now_height,
+                   const TrackerOptions& o) {
+  const double dz = std::fabs(now_height - before.height);
   if (dz > o.max_height_change) return kForbidden;
-  const double gap = boxGap(before.bbox, now.bbox);
+  const double gap = boxGap(before.bbox, now_bbox);
   if (gap > o.max_xy_gap) return kForbidden;
-  const double area_before = boxArea(before.bbox), area_now = boxArea(now.bbox);
-  const double common = intersectionArea(before.bbox, now.bbox);
+  const double area_before = boxArea(before.bbox), area_now = boxArea(now_bbox);
+  const double common = intersectionArea(before.bbox, now_bbox);
   const double overlap = std::min(1.0, common / std::min(area_before, area_now));
   const double iou = common / (area_before + area_now - common);
   const double height_term = dz / o.height_scale, gap_term = gap / o.xy_scale;
@@ -178,29 +185,56 @@ double pairingCost(const Footprint& before, const HorizontalPlane& now, const Tr
          kIouWeight * o.max_match_cost * (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
 }
 
+// Cells of the gating index: twice the xy gate, so a small box grown by it spans about 2 x 2
+// cells, and four times the height gate, so a query spans one or two cells in height.
+double gateCell(const TrackerOptions& o) { return std::max(2.0 * o.max_xy_gap, 0.2); }
+double gateHeightCell(const TrackerOptions& o) { return 4.0 * o.max_height_change; }
+
+// The pairs of a track (moved by the scene's motion) and a plane that pass the gates and
+// cost less than `limit` (no dearer pair is ever made), priced.
+// `boxes` and `heights` are the planes', in the order `index` was built from.
 template <class Track>
-Eigen::MatrixXd pairingCosts(const std::vector<Track>& tracks,
-                             const std::vector<HorizontalPlane>& planes, const SceneMotion& motion,
-                             const TrackerOptions& o) {
-  Eigen::MatrixXd cost(tracks.size(), planes.size());
+std::vector<CandidatePair> candidatePairs(const std::vector<Track>& tracks,
+                                          const std::vector<BoxIndex::Box>& boxes,
+                                          const std::vector<double>& heights, const BoxIndex& index,
+                                          const SceneMotion& motion, const TrackerOptions& o,
+                                          double limit) {
+  std::vector<CandidatePair> pairs;
+  pairs.reserve(2 * tracks.size());
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     const Footprint before = footprintOf(tracks[t].plane, compose(sinceSeen(tracks[t]), motion));
-    for (std::size_t p = 0; p < planes.size(); ++p) cost(t, p) = pairingCost(before, planes[p], o);
+    index.forEachNear(before.bbox, before.height, o.max_xy_gap, o.max_height_change, [&](int p) {
+      const double cost = pairingCost(before, boxes[p], heights[p], o);
+      if (cost < limit) pairs.push_back({static_cast<int>(t), p, cost});
+    });
   }
-  return cost;
+  return pairs;
 }
 
-// The weighted median of (value, weight) pairs.
+// The weighted median of (value, weight) pairs: the smallest value at which the running
+// weight, in ascending order of value, reaches half the total. Found by selection (expected
+// linear time) rather than a full sort: it runs four times per frame over every pair.
 double weightedMedian(std::vector<std::pair<double, double>>& samples) {
-  std::sort(samples.begin(), samples.end());
   double total = 0;
   for (const auto& s : samples) total += s.second;
-  double running = 0;
-  for (const auto& s : samples) {
-    running += s.second;
-    if (running >= 0.5 * total) return s.first;
+  const double half = 0.5 * total;
+  auto first = samples.begin(), last = samples.end();
+  double below = 0;  // weight of the samples left of `first`, all smaller than the rest
+  while (last - first > 1) {
+    const auto mid = first + (last - first) / 2;
+    std::nth_element(first, mid, last);
+    double left = below;
+    for (auto it = first; it != mid; ++it) left += it->second;
+    if (left >= half) {
+      last = mid;
+    } else if (left + mid->second >= half) {
+      return mid->first;
+    } else {
+      below = left + mid->second;
+      first = mid + 1;
+    }
   }
-  return samples.back().first;
+  return first->first;
 }
 
 // The apparent motion of the scene from the pairs with tracks seen in the previous frame,
@@ -240,70 +274,6 @@ bool estimateMotion(const std::vector<Track>& tracks, const std::vector<Horizont
   }
   motion.shift = Eigen::Vector3d(weightedMedian(dx), weightedMedian(dy), weightedMedian(dz));
   return true;
-}
-
-// Total cost of an assignment: its pairs plus `unpaired` for every track and plane left out.
-double totalCost(const Eigen::MatrixXd& cost, const std::vector<int>& assigned, double unpaired) {
-  double total = unpaired * static_cast<double>(cost.rows() + cost.cols());
-  for (std::size_t t = 0; t < assigned.size(); ++t) {
-    if (assigned[t] >= 0) total += cost(t, assigned[t]) - 2 * unpaired;
-  }
-  return total;
-}
-
-// The optimal assignment where leaving a track or a plane unpaired costs `unpaired` each, so a
-// pair is only made when it costs less than 2·unpaired (a plain assignment would pair as many
-// as it can, forcing poor pairs). Solved per connected component of the allowed pairs:
-// planes at different heights never compete, so components are small and the cubic cost of
-// the Hungarian method stays negligible with many planes.
-std::vector<int> assignWithinComponents(const Eigen::MatrixXd& cost, double unpaired) {
-  const int rows = static_cast<int>(cost.rows()), cols = static_cast<int>(cost.cols());
-  std::vector<int> parent(rows + cols);
-  for (int i = 0; i < rows + cols; ++i) parent[i] = i;
-  auto root = [&](int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c)
-      if (cost(r, c) < 2 * unpaired) parent[root(r)] = root(rows + c);
-  // Members of each component, grouped by root without per-component allocations.
-  std::vector<int> order(rows + cols);
-  for (int i = 0; i < rows + cols; ++i) order[i] = i;
-  std::vector<int> roots(rows + cols);
-  for (int i = 0; i < rows + cols; ++i) roots[i] = root(i);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return roots[a] != roots[b] ? roots[a] < roots[b] : a < b; });
-  std::vector<int> assigned(rows, -1);
-  std::vector<int> rs, cs;
-  for (std::size_t begin = 0; begin < order.size();) {
-    std::size_t end = begin;
-    rs.clear();
-    cs.clear();
-    for (; end < order.size() && roots[order[end]] == roots[order[begin]]; ++end) {
-      (order[end] < rows ? rs : cs).push_back(order[end] < rows ? order[end] : order[end] - rows);
-    }
-    begin = end;
-    if (rs.empty() || cs.empty()) continue;
-    if (rs.size() == 1 && cs.size() == 1) {  // the common case: nothing competes
-      if (cost(rs[0], cs[0]) < 2 * unpaired) assigned[rs[0]] = cs[0];
-      continue;
-    }
-    const int n = static_cast<int>(rs.size()), m = static_cast<int>(cs.size());
-    // [pairs | track unpaired] over [plane unpaired | nothing].
-    Eigen::MatrixXd augmented = Eigen::MatrixXd::Constant(n + m, m + n, kForbidden);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < m; ++j) augmented(i, j) = std::min(cost(rs[i], cs[j]), kForbidden);
-    for (int i = 0; i < n; ++i) augmented(i, m + i) = unpaired;
-    for (int j = 0; j < m; ++j) augmented(n + j, j) = unpaired;
-    augmented.bottomRightCorner(m, n).setZero();
-    const std::vector<int> sub_assigned = solveAssignment(augmented);
-    for (int i = 0; i < n; ++i) {
-      const int j = sub_assigned[i];
-      if (j >= 0 && j < m && augmented(i, j) < 2 * unpaired) assigned[rs[i]] = cs[j];
-    }
-  }
-  return assigned;
 }
 
 }  // namespace
@@ -373,18 +343,34 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   // so the reference frame moves with the camera), which the second pass removes first.
   // The motion is kept only when it explains the frame better than no motion.
   const double unpaired = 0.5 * o.max_match_cost;
+  // Each track is priced against the planes near it only (gating before assignment: all
+  // tracks × all planes would cost n²).
+  boxes_.clear();
+  heights_.clear();
+  for (const HorizontalPlane& p : planes) {
+    boxes_.push_back(p.bbox);
+    heights_.push_back(p.height);
+  }
+  BoxIndex& planes_near = planes_index_;
+  planes_near.rebuild(boxes_, heights_, gateCell(o), gateHeightCell(o));
   SceneMotion motion;
-  const Eigen::MatrixXd unmoved = pairingCosts(tracks_, planes, motion, o);
-  std::vector<int> assigned = assignWithinComponents(unmoved, unpaired);
+  SparseAssignment assignment = assignWithUnpairedCost(
+      candidatePairs(tracks_, boxes_, heights_, planes_near, motion, o, 2 * unpaired), num_tracks,
+      num_planes, unpaired);
   SceneMotion estimate;
-  if (estimateMotion(tracks_, planes, assigned, estimate)) {
-    const Eigen::MatrixXd compensated = pairingCosts(tracks_, planes, estimate, o);
-    std::vector<int> reassigned = assignWithinComponents(compensated, unpaired);
-    if (totalCost(compensated, reassigned, unpaired) < totalCost(unmoved, assigned, unpaired)) {
-      assigned = std::move(reassigned);
+  // A motion far below the cost scales (a static sensor: the median of the planes' jitter)
+  // would change no cost measurably; the second pass is skipped for it.
+  if (estimateMotion(tracks_, planes, assignment.col_of_row, estimate) &&
+      (std::fabs(estimate.yaw) > kNegligibleTurn || estimate.shift.norm() > kNegligibleShift)) {
+    SparseAssignment compensated = assignWithUnpairedCost(
+        candidatePairs(tracks_, boxes_, heights_, planes_near, estimate, o, 2 * unpaired),
+        num_tracks, num_planes, unpaired);
+    if (compensated.total_cost < assignment.total_cost) {
+      assignment = std::move(compensated);
       motion = estimate;
     }
   }
+  const std::vector<int>& assigned = assignment.col_of_row;
 
   std::vector<int> track_of_plane(num_planes, -1);
   for (int t = 0; t < num_tracks; ++t) {
@@ -407,19 +393,38 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
 
   // New planes; one lying mostly inside the box of a continued plane at about the same
   // height is a part that split off it (the larger part kept the id through the assignment).
+  // The continued planes' boxes (moved by the scene's motion) are indexed so that each new
+  // plane is compared with those it overlaps only.
+  // (In a steady scene no plane is new, and the index is not built.)
+  const bool any_new = std::count(track_of_plane.begin(), track_of_plane.end(), -1) > 0;
+  std::vector<int> matched_tracks;
+  std::vector<BoxIndex::Box> matched_boxes;
+  std::vector<double> matched_heights;
+  for (int t = 0; any_new && t < num_tracks; ++t) {
+    if (!matched[t]) continue;
+    const Footprint before = footprintOf(tracks_[t].plane, compose(sinceSeen(tracks_[t]), motion));
+    matched_tracks.push_back(t);
+    matched_boxes.push_back(before.bbox);
+    matched_heights.push_back(before.height);
+  }
+  BoxIndex& matched_near = matched_index_;
+  if (any_new) matched_near.rebuild(matched_boxes, matched_heights, gateCell(o), gateHeightCell(o));
   for (int p = 0; p < num_planes; ++p) {
     if (track_of_plane[p] >= 0) continue;
     startTrack(planes[p], stamp, events);
-    for (int t = 0; t < num_tracks; ++t) {
-      if (!matched[t]) continue;
-      const Footprint before =
-          footprintOf(tracks_[t].plane, compose(sinceSeen(tracks_[t]), motion));
-      if (std::fabs(before.height - planes[p].height) <= sameSurfaceHeight(o) &&
-          shareInside(planes[p].bbox, before.bbox) >= o.merge_split_overlap) {
-        planes[p].split_from = tracks_[t].plane.id;
-        events.push_back({TrackEvent::Kind::kSplit, planes[p].id, tracks_[t].plane.id});
-        break;
-      }
+    int parent = -1;  // the first such track, as tracks are ordered
+    matched_near.forEachNear(
+        planes[p].bbox, planes[p].height, 0.0, sameSurfaceHeight(o), [&](int k) {
+          const int t = matched_tracks[k];
+          if ((parent < 0 || t < parent) &&
+              std::fabs(matched_heights[k] - planes[p].height) <= sameSurfaceHeight(o) &&
+              shareInside(planes[p].bbox, matched_boxes[k]) >= o.merge_split_overlap) {
+            parent = t;
+          }
+        });
+    if (parent >= 0) {
+      planes[p].split_from = tracks_[parent].plane.id;
+      events.push_back({TrackEvent::Kind::kSplit, planes[p].id, tracks_[parent].plane.id});
     }
   }
 
@@ -437,14 +442,16 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     int merged_into = -1;
     if (track.missed == 0) {
       const Footprint before = footprintOf(track.plane, since);
-      for (const HorizontalPlane& now : planes) {
-        if (now.id != track.plane.id &&
+      int first = num_planes;  // the first such plane, as planes are ordered
+      planes_near.forEachNear(before.bbox, before.height, 0.0, sameSurfaceHeight(o), [&](int p) {
+        const HorizontalPlane& now = planes[p];
+        if (p < first && now.id != track.plane.id &&
             std::fabs(now.height - before.height) <= sameSurfaceHeight(o) &&
             shareInside(before.bbox, now.bbox) >= o.merge_split_overlap) {
-          merged_into = now.id;
-          break;
+          first = p;
         }
-      }
+      });
+      if (first < num_planes) merged_into = planes[first].id;
     }
     if (merged_into >= 0) {
       events.push_back({TrackEvent::Kind::kMerged, track.plane.id, merged_into});

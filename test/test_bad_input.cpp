@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "helpers.h"
+#include "hope/depth_image.h"
 
 namespace hope {
 namespace test {
@@ -114,6 +115,46 @@ TEST(BadInput, HugeCoordinatesAreAClearErrorAndMillimetresAWarning) {
   overflow.back() = pcl::PointXYZ(3e38f, 3e38f, 3e38f);
   const Result o = extractor.extract(overflow, Orientation::fromRollPitchYaw(0.3, 0.2, 0.1));
   EXPECT_EQ(o.finite_points, overflow.size() - 1);
+}
+
+TEST(BadInput, PoseFarFromTheOriginKeepsItsMillimetres) {
+  // The demo room seen from a pose in UTM-like map coordinates (500 km east, 5,000 km north,
+  // 300 m up): in float, aligned points there lose everything below half a metre, and no
+  // plane was found. Every true surface must come out at its true height + 300 m.
+  const auto scene = synthetic::demoRoom();
+  const auto camera = synthetic::demoCamera();
+  const auto cloud = depthToCloud(scene.render(camera).depth, camera.intrinsics, 1.0);
+  const Eigen::Quaterniond q(camera.pose.linear());
+  const Eigen::Vector3d t = camera.pose.translation();
+  const Eigen::Vector3d offset(500000.0, 5000000.0, 300.0);
+  const Eigen::Vector3d far = t + offset;
+  Extractor extractor;
+  const Result near_result = extractor.extract(
+      cloud, Orientation::fromPose(t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()));
+  const Result result = extractor.extract(
+      cloud, Orientation::fromPose(far.x(), far.y(), far.z(), q.x(), q.y(), q.z(), q.w()));
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
+  const std::vector<double> truth = {0.0, 0.75, 0.45, 0.17, 0.34, 0.80};
+  // As many planes as the same view near the origin (where every true surface is found).
+  ASSERT_EQ(result.planes.size(), near_result.planes.size()) << describe(result);
+  for (double height : truth) {
+    const int k = planeNear(result, height + offset.z(), 0.01);
+    ASSERT_GE(k, 0) << "no plane at " << height << " + 300 m: " << describe(result);
+    // The same plane as seen near the origin, moved by the offset to the millimetre.
+    const int n = planeNear(near_result, height, 0.01);
+    ASSERT_GE(n, 0);
+    const HorizontalPlane& p = result.planes[k];
+    const HorizontalPlane& r = near_result.planes[n];
+    EXPECT_NEAR(p.height - offset.z(), r.height, 1e-3);
+    EXPECT_NEAR(p.centroid.x() - offset.x(), r.centroid.x(), 1e-3);
+    EXPECT_NEAR(p.centroid.y() - offset.y(), r.centroid.y(), 1e-3);
+    EXPECT_NEAR(p.bbox[0] - offset.x(), r.bbox[0], 1e-3);
+    EXPECT_NEAR(p.bbox[3] - offset.y(), r.bbox[3], 1e-3);
+    ASSERT_FALSE(p.hull.empty());
+    EXPECT_NEAR(p.hull[0].z() - offset.z(), r.height, 1e-3);
+    EXPECT_NEAR(static_cast<double>(p.num_points), static_cast<double>(r.num_points),
+                0.01 * static_cast<double>(r.num_points));
+  }
 }
 
 TEST(BadInput, InconsistentOrganizedHeaderIsReadAsUnorganized) {

@@ -35,6 +35,10 @@ struct Result {
   std::vector<std::int32_t> point_labels;
   // The transform that was applied: points in `planes` are in the reference frame.
   Eigen::Isometry3d sensor_to_reference = Eigen::Isometry3d::Identity();
+  // Extractor::alignedPoints() are relative to this point of the reference frame (zero
+  // unless the sensor is more than 512 m from its origin; see localOrigin). Plane fields are
+  // absolute.
+  Eigen::Vector3d local_origin = Eigen::Vector3d::Zero();
   StageTimings timings;
   // Counts along the way, for diagnostics and tuning.
   std::size_t input_points = 0;
@@ -69,7 +73,8 @@ class Extractor {
     return extract(PointsView::of(cloud), orientation);
   }
 
-  // Intermediate products of the last call, for visualization and tests.
+  // Intermediate products of the last call, for visualization and tests. Aligned points are
+  // in the reference frame minus Result::local_origin.
   const std::vector<Eigen::Vector3f>& alignedPoints() const { return aligned_; }
   const VoxelGrid& grid() const { return grid_; }
   const std::vector<Eigen::Vector3f>& voxelNormals() const { return normals_; }

@@ -42,9 +42,17 @@ class Orientation {
   Eigen::Isometry3d transform_ = Eigen::Isometry3d::Identity();
 };
 
-// Transforms every point into F_r. Non-finite input points become NaN so that later stages
-// (and per-point labels) keep the input order. Returns the number of finite points.
+// Aligned points are stored as float, whose centimetres are gone beyond ~100 km (a pose in
+// UTM map coordinates). They are stored relative to this local origin instead: the sensor's
+// position rounded to a multiple of 1024 m — zero for any pose within 512 m of the reference
+// frame's origin, so ordinary scenes are computed exactly as without it.
+Eigen::Vector3d localOrigin(const Orientation& orientation);
+
+// Transforms every point into F_r, minus `origin` (see localOrigin). Non-finite input points
+// become NaN so that later stages (and per-point labels) keep the input order. Returns the
+// number of finite points.
 std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
-                           std::vector<Eigen::Vector3f>& aligned);
+                           std::vector<Eigen::Vector3f>& aligned,
+                           const Eigen::Vector3d& origin = Eigen::Vector3d::Zero());
 
 }  // namespace hope

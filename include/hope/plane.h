@@ -40,6 +40,17 @@ struct HorizontalPlane {
   double last_seen = 0.0;
   // The id this plane split off in this frame, or -1.
   int split_from = -1;
+
+  // Moves the plane's position fields (height, bbox, centroid, hull) by `offset`.
+  void translate(const Eigen::Vector3d& offset) {
+    height += offset.z();
+    bbox[0] += offset.x();
+    bbox[2] += offset.x();
+    bbox[1] += offset.y();
+    bbox[3] += offset.y();
+    centroid += offset;
+    for (Eigen::Vector3d& h : hull) h += offset;
+  }
 };
 
 }  // namespace hope

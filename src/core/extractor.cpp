@@ -47,7 +47,8 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.input_points = cloud.count;
   Stopwatch total, stage;
 
-  result.finite_points = alignToGravity(cloud, orientation, aligned_);
+  result.local_origin = localOrigin(orientation);
+  result.finite_points = alignToGravity(cloud, orientation, aligned_, result.local_origin);
   result.timings.alignment_ms = stage.lap();
 
   grid_.build(aligned_, params_.r_xy, params_.r_z);
@@ -90,6 +91,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   voxel_plane_.assign(grid_.numVoxels(), -1);
   for (std::size_t c : kept) {
     HorizontalPlane plane = describePlane(grid_, aligned_, clusters[c]);
+    plane.translate(result.local_origin);
     // The plane fitted through the cluster's points must itself be within the accepted slope:
     // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
     // level strips), and the fit over the whole strip sees what the normals miss.

@@ -100,10 +100,16 @@ std::string Orientation::describe() const {
   return s.str();
 }
 
+Eigen::Vector3d localOrigin(const Orientation& orientation) {
+  const Eigen::Vector3d t = orientation.sensorToReference().translation();
+  return (t / 1024.0).array().round().matrix() * 1024.0;
+}
+
 std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
-                           std::vector<Eigen::Vector3f>& aligned) {
+                           std::vector<Eigen::Vector3f>& aligned, const Eigen::Vector3d& origin) {
   const Eigen::Matrix3f r = orientation.sensorToReference().linear().cast<float>();
-  const Eigen::Vector3f t = orientation.sensorToReference().translation().cast<float>();
+  // The translation minus the origin is taken in double, before it becomes a float.
+  const Eigen::Vector3f t = (orientation.sensorToReference().translation() - origin).cast<float>();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   aligned.resize(input.count);
   std::size_t finite = 0;

@@ -160,9 +160,12 @@ sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligne
   out.row_step = out.point_step * out.width;
   out.is_dense = false;
   out.data.resize(static_cast<std::size_t>(out.point_step) * aligned.size());
+  // Aligned points are relative to the local origin (zero unless the sensor is far out).
+  const Eigen::Vector3f origin = result.local_origin.cast<float>();
   for (std::size_t i = 0; i < aligned.size(); ++i) {
     std::uint8_t* p = out.data.data() + i * out.point_step;
-    std::memcpy(p, aligned[i].data(), 12);
+    const Eigen::Vector3f q = aligned[i] + origin;
+    std::memcpy(p, q.data(), 12);
     const int index = i < result.point_labels.size() ? result.point_labels[i] : -1;
     const int id = index >= 0 ? result.planes[index].id : -1;
     const cv::Vec3b bgr = id >= 0 ? hope::tools::planeColor(id) : cv::Vec3b(128, 128, 128);

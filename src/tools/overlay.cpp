@@ -130,14 +130,17 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
     if (label >= 0) color = tint(color, planeColor(result.planes[label].id));
     image.at<cv::Vec3b>(px) = color;
   }
+  // Plane fields are absolute; the aligned points are relative to the local origin.
+  const Eigen::Vector3d& o = result.local_origin;
   for (const HorizontalPlane& plane : result.planes) {
     std::vector<cv::Point> polygon;
-    for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x(), v.y()));
+    for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
     if (polygon.size() >= 2) {
       const cv::Vec3b c = planeColor(plane.id);
       cv::polylines(image, polygon, true, cv::Scalar(c[0], c[1], c[2]), 2, cv::LINE_AA);
     }
-    drawLabel(image, planeText(plane), toPixel(plane.centroid.x(), plane.centroid.y()), 0.6);
+    drawLabel(image, planeText(plane),
+              toPixel(plane.centroid.x() - o.x(), plane.centroid.y() - o.y()), 0.6);
   }
   return image;
 }

@@ -16,6 +16,7 @@ packages=(
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
   libvisualization-msgs-dev rviz xvfb imagemagick
   libgtest-dev libbenchmark-dev clang-format
+  clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
 )
 
 missing=()

@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
 #include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli_helpers.h"
@@ -30,6 +32,78 @@ TEST(Tools, ParseNumbersSaysWhatIsWrong) {
   EXPECT_EQ(tools::parseNumbers("1 2.5 -3", 3, "x"), (std::vector<double>{1, 2.5, -3}));
   EXPECT_THROW(tools::parseNumbers("1 2", 3, "x"), std::invalid_argument);
   EXPECT_THROW(tools::parseNumbers("1 two 3", 3, "x"), std::invalid_argument);
+}
+
+TEST_F(Cli, CloudFilesReadAsPclWritesThemInEveryEncoding) {
+  // hope reads PCD and PLY itself (PCL's readers trust their headers): every encoding PCL
+  // writes must come back point for point, organized shape, NaNs and colours included.
+  pcl::PointCloud<pcl::PointXYZRGB> cloud;
+  cloud.width = 8;
+  cloud.height = 5;
+  cloud.resize(40);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    pcl::PointXYZRGB& p = cloud[i];
+    p.x = 0.1f * static_cast<float>(i % 8) - 0.3f;
+    p.y = 0.07f * static_cast<float>(i / 8);
+    p.z = i == 13 ? std::numeric_limits<float>::quiet_NaN() : 0.75f + 0.001f * i;
+    p.r = static_cast<std::uint8_t>(6 * i);
+    p.g = static_cast<std::uint8_t>(255 - 6 * i);
+    p.b = 77;
+  }
+  const std::string base = dir_ + "/c";
+  ASSERT_EQ(pcl::io::savePCDFileASCII(base + "_ascii.pcd", cloud), 0);
+  ASSERT_EQ(pcl::io::savePCDFileBinary(base + "_binary.pcd", cloud), 0);
+  ASSERT_EQ(pcl::io::savePCDFileBinaryCompressed(base + "_compressed.pcd", cloud), 0);
+  ASSERT_EQ(pcl::io::savePLYFileASCII(base + "_ascii.ply", cloud), 0);
+  ASSERT_EQ(pcl::io::savePLYFileBinary(base + "_binary.ply", cloud), 0);
+  for (const char* name :
+       {"_ascii.pcd", "_binary.pcd", "_compressed.pcd", "_ascii.ply", "_binary.ply"}) {
+    const tools::InputCloud in = tools::loadCloud(base + name);
+    const bool ply = std::string(name).find("ply") != std::string::npos;
+    ASSERT_EQ(in.cloud.size(), cloud.size()) << name;
+    if (!ply) {  // PCL's PLY writer drops the organized shape; PCD keeps it
+      EXPECT_EQ(in.cloud.width, 8u) << name;
+      EXPECT_EQ(in.cloud.height, 5u) << name;
+    }
+    EXPECT_TRUE(in.has_color) << name;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const pcl::PointXYZRGB &a = in.cloud[i], &b = cloud[i];
+      EXPECT_FLOAT_EQ(a.x, b.x) << name << " point " << i;
+      EXPECT_FLOAT_EQ(a.y, b.y) << name << " point " << i;
+      if (std::isnan(b.z)) {
+        EXPECT_TRUE(std::isnan(a.z)) << name;
+      } else {
+        EXPECT_FLOAT_EQ(a.z, b.z) << name << " point " << i;
+      }
+      EXPECT_EQ(int(a.r), int(b.r)) << name << " point " << i;
+      EXPECT_EQ(int(a.g), int(b.g)) << name << " point " << i;
+      EXPECT_EQ(int(a.b), int(b.b)) << name << " point " << i;
+    }
+  }
+  // A big-endian binary PLY with a face element after the vertices (ignored).
+  {
+    std::ofstream out(base + "_be.ply", std::ios::binary);
+    out << "ply\nformat binary_big_endian 1.0\ncomment by hand\nelement vertex 2\n"
+           "property float x\nproperty float y\nproperty double z\nelement face 1\n"
+           "property list uchar int vertex_indices\nend_header\n";
+    auto bigEndian = [&](const void* value, int size) {
+      const char* bytes = static_cast<const char*>(value);
+      for (int b = size - 1; b >= 0; --b) out.put(bytes[b]);
+    };
+    for (int v = 0; v < 2; ++v) {
+      const float x = 1.5f + v, y = -2.25f;
+      const double z = 0.125 * v;
+      bigEndian(&x, 4);
+      bigEndian(&y, 4);
+      bigEndian(&z, 8);
+    }
+  }
+  const tools::InputCloud be = tools::loadCloud(base + "_be.ply");
+  ASSERT_EQ(be.cloud.size(), 2u);
+  EXPECT_FALSE(be.has_color);
+  EXPECT_FLOAT_EQ(be.cloud[1].x, 2.5f);
+  EXPECT_FLOAT_EQ(be.cloud[1].y, -2.25f);
+  EXPECT_FLOAT_EQ(be.cloud[1].z, 0.125f);
 }
 
 TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {

@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "hope/depth_image.h"
-#include "hope/tools/cloud_file_check.h"
+#include "hope/tools/cloud_file.h"
 #include "hope/tools/output_file.h"
 
 namespace hope {
@@ -22,8 +22,8 @@ struct InputCloud {
 
 // Reads a .pcd or .ply file; x, y, z may be float32 or float64. Throws std::runtime_error with
 // a message naming the file and the problem when it is missing, unreadable, not a regular
-// file, malformed, truncated, claims more than `max_points` points (see checkCloudFile), or
-// lacks floating-point x, y, z fields.
+// file, malformed, truncated, claims more than `max_points` points, or lacks floating-point
+// x, y, z fields (see cloud_file.h: hope reads both formats itself, not with PCL's readers).
 InputCloud loadCloud(const std::string& path, std::uint64_t max_points = kDefaultMaxPoints);
 
 // Reads a depth PNG (16-bit raw units or 32-bit float metres) and, optionally, a registered

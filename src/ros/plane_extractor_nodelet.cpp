@@ -15,7 +15,9 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -35,6 +37,14 @@ std::string frameId(const std::string& frame) {
   return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
 }
 
+// "<node name>_gravity" with the namespace's slashes as underscores: /hope → hope_gravity,
+// /camera/hope → camera_hope_gravity.
+std::string defaultReferenceFrame(const std::string& node_name) {
+  std::string frame = frameId(node_name);
+  for (char& c : frame) c = c == '/' ? '_' : c;
+  return (frame.empty() ? std::string("hope") : frame) + "_gravity";
+}
+
 using CloudImuPolicy =
     message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, sensor_msgs::Imu>;
 
@@ -52,8 +62,14 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // has one parent in tf; the cloud's frame usually has its own already).
   void broadcastReference(const std_msgs::Header& cloud_header,
                           const hope::Orientation& orientation);
-  // Counts sequence gaps (frames dropped before they reached hope).
+  // Counts sequence gaps (frames dropped before they reached hope) and notices time jumping
+  // back (a looping bag): then the plane tracks and the gravity average start afresh.
   void noteArrival(const sensor_msgs::PointCloud2& cloud);
+  // tf: a cloud the message filter could not transform in time.
+  void onCloudWithoutTransform(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                               tf2_ros::FilterFailureReason reason);
+  // Warns when another publisher puts our reference frame under another parent.
+  void onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event);
   void reject(const std::string& problem);
   void reconfigure(hope::HopeConfig& config, uint32_t level);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
@@ -61,13 +77,20 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // Parameters fixed at start-up.
   std::string source_;           // imu, tf, fixed or none
   std::string reference_frame_;  // output frame (tf: looked up; imu/fixed: broadcast)
-  double tf_timeout_ = 0.1;
   bool lazy_ = true;
   int gravity_window_ = 10;
   hope::Orientation fixed_ = hope::Orientation::identity();
 
   ros::Publisher planes_pub_, cloud_pub_, markers_pub_;
   ros::Subscriber cloud_sub_;
+  // tf: clouds wait in a bounded queue until their transform is there; the callback thread
+  // never blocks in a lookup (a paused /clock would hold it forever).
+  std::unique_ptr<message_filters::Subscriber<sensor_msgs::PointCloud2>> tf_cloud_sub_;
+  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> tf_filter_;
+  int tf_queue_ = 5;
+  ros::Subscriber tf_watch_sub_;
+  std::string broadcast_parent_;  // the frame our reference frame hangs from
+  ros::Time last_stamp_;
   std::unique_ptr<message_filters::Subscriber<sensor_msgs::PointCloud2>> sync_cloud_sub_;
   std::unique_ptr<message_filters::Subscriber<sensor_msgs::Imu>> sync_imu_sub_;
   std::unique_ptr<message_filters::Synchronizer<CloudImuPolicy>> sync_;
@@ -96,6 +119,7 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   std::mutex stats_mutex_;
   std::size_t frames_ = 0, rejected_ = 0, dropped_ = 0, rejected_since_update_ = 0;
+  std::size_t time_jumps_ = 0;
   double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
   std::uint32_t last_seq_ = 0;
   bool have_seq_ = false;
@@ -109,7 +133,13 @@ void PlaneExtractorNodelet::onInit() {
   pnh.param<std::string>("orientation_source", source_, "imu");
   pnh.param<std::string>("reference_frame", reference_frame_, "");
   reference_frame_ = frameId(reference_frame_);
-  pnh.param("tf_timeout", tf_timeout_, 0.1);
+  if (pnh.hasParam("tf_timeout")) {
+    NODELET_WARN(
+        "hope: ~tf_timeout is no longer used: clouds wait for their transform in a "
+        "queue of ~tf_queue clouds, without blocking");
+  }
+  pnh.param("tf_queue", tf_queue_, 5);
+  tf_queue_ = std::max(1, std::min(tf_queue_, 100));
   pnh.param("lazy", lazy_, true);
   pnh.param("gravity_window", gravity_window_, 10);
   if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "none") {
@@ -124,7 +154,9 @@ void PlaneExtractorNodelet::onInit() {
     source_ = "none";
   }
   if ((source_ == "imu" || source_ == "fixed") && reference_frame_.empty()) {
-    reference_frame_ = "hope_gravity";  // broadcast: z up, origin at the sensor
+    // Broadcast: z up, origin at the sensor. Named after this nodelet, so two hope nodelets
+    // never broadcast one frame under two parents ("hope" → hope_gravity).
+    reference_frame_ = defaultReferenceFrame(getName());
   }
   if (source_ == "fixed") {
     std::vector<double> q, rpy;
@@ -161,8 +193,13 @@ void PlaneExtractorNodelet::onInit() {
   diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
   diagnostics_->setHardwareID("none");
   diagnostics_->add("processing", this, &PlaneExtractorNodelet::diagnose);
+  // On wall time, and forced: Updater::update() waits for ROS time to pass its next report,
+  // which never comes once a looping bag sends sim time back.
   diagnostics_timer_ = nh.createWallTimer(
-      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->force_update(); });
+  if (source_ == "imu" || source_ == "fixed") {
+    tf_watch_sub_ = nh.subscribe("/tf", 100, &PlaneExtractorNodelet::onTf, this);
+  }
 
   const ros::SubscriberStatusCallback changed =
       boost::bind(&PlaneExtractorNodelet::connectionChanged, this);
@@ -195,10 +232,22 @@ void PlaneExtractorNodelet::connectionChanged() {
           CloudImuPolicy(10), *sync_cloud_sub_, *sync_imu_sub_);
       sync_->registerCallback(boost::bind(&PlaneExtractorNodelet::onCloudAndImu, this,
                                           boost::placeholders::_1, boost::placeholders::_2));
+    } else if (source_ == "tf") {
+      tf_cloud_sub_ =
+          std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(pnh, "cloud", 1);
+      tf_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>>(
+          *tf_cloud_sub_, *tf_buffer_, reference_frame_, tf_queue_, pnh);
+      tf_filter_->registerCallback(
+          boost::bind(&PlaneExtractorNodelet::onCloud, this, boost::placeholders::_1));
+      tf_filter_->registerFailureCallback(
+          boost::bind(&PlaneExtractorNodelet::onCloudWithoutTransform, this,
+                      boost::placeholders::_1, boost::placeholders::_2));
     } else {
       cloud_sub_ = pnh.subscribe("cloud", 1, &PlaneExtractorNodelet::onCloud, this);
     }
   } else {
+    tf_filter_.reset();
+    tf_cloud_sub_.reset();
     sync_.reset();
     sync_cloud_sub_.reset();
     sync_imu_sub_.reset();
@@ -210,10 +259,67 @@ void PlaneExtractorNodelet::connectionChanged() {
 }
 
 void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (have_seq_ && cloud.header.seq > last_seq_ + 1) dropped_ += cloud.header.seq - last_seq_ - 1;
-  last_seq_ = cloud.header.seq;
-  have_seq_ = true;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    if (have_seq_ && cloud.header.seq > last_seq_ + 1) {
+      dropped_ += cloud.header.seq - last_seq_ - 1;
+    }
+    last_seq_ = cloud.header.seq;
+    have_seq_ = true;
+  }
+  // A cloud older than the last one: a bag started over (or a clock was reset); one topic's
+  // stamps never go back otherwise. Tracks and the gravity average belong to another time
+  // (tf2's listener clears its own buffer); new ids continue from the last one.
+  const ros::Time stamp = cloud.header.stamp;
+  if (!last_stamp_.isZero() && stamp < last_stamp_) {
+    NODELET_WARN_THROTTLE(10.0,
+                          "hope: time went back %.2f s (a looping bag?): plane tracks and "
+                          "gravity start afresh",
+                          (last_stamp_ - stamp).toSec());
+    std::lock_guard<std::mutex> lock(processing_mutex_);
+    tracker_->reset();
+    recent_gravity_.clear();
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    have_seq_ = false;
+    ++time_jumps_;
+  }
+  last_stamp_ = stamp;
+}
+
+void PlaneExtractorNodelet::onCloudWithoutTransform(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                                    tf2_ros::FilterFailureReason reason) {
+  const char* why = reason == tf2_ros::filter_failure_reasons::OutTheBack
+                        ? "older than the tf buffer"
+                    : reason == tf2_ros::filter_failure_reasons::EmptyFrameID
+                        ? "an empty frame_id"
+                        : "no transform before the queue overflowed";
+  reject(std::string("no transform: ") + why);
+  NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud: no transform from '%s' to '%s' at %.3f: %s",
+                        frameId(cloud->header.frame_id).c_str(), reference_frame_.c_str(),
+                        cloud->header.stamp.toSec(), why);
+}
+
+void PlaneExtractorNodelet::onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event) {
+  std::string parent;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    parent = broadcast_parent_;
+  }
+  if (parent.empty()) return;
+  for (const auto& t : event.getMessage()->transforms) {
+    if (frameId(t.child_frame_id) != reference_frame_ || frameId(t.header.frame_id) == parent) {
+      continue;
+    }
+    NODELET_WARN_THROTTLE(10.0,
+                          "hope: '%s' publishes our reference frame '%s' as a child of '%s'; "
+                          "hope broadcasts it under '%s'. Give each hope nodelet its own "
+                          "~reference_frame.",
+                          event.getPublisherName().c_str(), reference_frame_.c_str(),
+                          t.header.frame_id.c_str(), parent.c_str());
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    last_problem_ = "another node publishes '" + reference_frame_ + "' under '" +
+                    frameId(t.header.frame_id) + "'";
+  }
 }
 
 void PlaneExtractorNodelet::reject(const std::string& problem) {
@@ -230,6 +336,10 @@ void PlaneExtractorNodelet::broadcastReference(const std_msgs::Header& cloud_hea
   t.header.stamp = cloud_header.stamp;
   t.header.frame_id = frameId(cloud_header.frame_id);
   t.child_frame_id = reference_frame_;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    broadcast_parent_ = t.header.frame_id;
+  }
   tf_broadcaster_->sendTransform(t);
 }
 
@@ -246,17 +356,16 @@ void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& clou
     return;
   }
   // tf: the cloud's frame in the reference frame at the cloud's stamp, translation included.
+  // The message filter let the cloud through once that transform was there: no waiting.
   try {
-    const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
-        reference_frame_, cloud_frame, cloud->header.stamp, ros::Duration(tf_timeout_));
+    const geometry_msgs::TransformStamped t =
+        tf_buffer_->lookupTransform(reference_frame_, cloud_frame, cloud->header.stamp);
     process(cloud, hope::Orientation::fromTransform(tf2::transformToEigen(t)), reference_frame_);
   } catch (const std::exception& e) {
     reject(std::string("no transform: ") + e.what());
-    NODELET_WARN_THROTTLE(5.0,
-                          "hope: skipping a cloud: no transform from '%s' to '%s' at %.3f "
-                          "within %.2f s (%s)",
-                          cloud_frame.c_str(), reference_frame_.c_str(),
-                          cloud->header.stamp.toSec(), tf_timeout_, e.what());
+    NODELET_WARN_THROTTLE(
+        5.0, "hope: skipping a cloud: no transform from '%s' to '%s' at %.3f (%s)",
+        cloud_frame.c_str(), reference_frame_.c_str(), cloud->header.stamp.toSec(), e.what());
   }
 }
 
@@ -267,8 +376,9 @@ hope::Orientation PlaneExtractorNodelet::orientationFromImu(const sensor_msgs::I
   const std::string imu_frame =
       imu.header.frame_id.empty() ? cloud_frame : frameId(imu.header.frame_id);
   if (imu_frame != cloud_frame) {
-    const geometry_msgs::TransformStamped t = tf_buffer_->lookupTransform(
-        imu_frame, cloud_frame, ros::Time(0), ros::Duration(tf_timeout_));
+    // The latest mounting transform, without waiting (the callback thread must not block).
+    const geometry_msgs::TransformStamped t =
+        tf_buffer_->lookupTransform(imu_frame, cloud_frame, ros::Time(0));
     imu_from_cloud = tf2::transformToEigen(t).rotation();
   }
   const auto& q = imu.orientation;
@@ -393,6 +503,14 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   }
   pending_ = true;
   const hope::Params& p = pending_params_;
+  // What is in effect goes back into the config, so the parameter server and the reported
+  // config never show a value that was refused.
+  config.r_xy = p.r_xy;
+  config.r_z = p.r_z;
+  config.min_height = std::max(p.min_height, -1000.0);
+  config.max_height = std::min(p.max_height, 1000.0);
+  config.min_area = p.min_area;
+  config.tracking_mode = hope::toString(pending_tracker_.mode);
   NODELET_INFO(
       "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, "
       "tracking %s",
@@ -416,6 +534,7 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
   status.add("frames processed", frames_);
   status.add("frames rejected", rejected_);
   status.add("frames dropped (sequence gaps)", dropped_);
+  status.add("time jumps back (tracks restarted)", time_jumps_);
   status.add("last processing ms", last_ms_);
   status.add("mean processing ms", frames_ ? sum_ms_ / frames_ : 0.0);
   status.add("max processing ms", max_ms_);

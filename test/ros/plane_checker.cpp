@@ -7,15 +7,25 @@
 //   send_malformed (false): publish broken clouds on `cloud_topic` first; hope must live on
 //   reconfigure_min_height: set min_height through dynamic_reconfigure, then no plane below
 //   required_bag: skip (with a message) when this file does not exist
+//   reconfigure_rejected (false): ask for a height band hope refuses; the reported config and
+//     the parameter server must keep the band in effect
+//   paused_clock (false): publish /clock once and a cloud no transform exists for; hope must
+//     keep answering dynamic_reconfigure (its callback thread never waits for tf)
+//   diagnostics_after_jump (false): after /clock jumps back (the bag loops), /diagnostics
+//     must still come, twice within 5 s
+#include <chrono>
 #include <cstring>
 #include <fstream>
+#include <future>
 #include <limits>
 #include <mutex>
 #include <set>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -98,7 +108,9 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
     GTEST_SKIP() << "no " << required_bag << " (../shared/data absent): skipped";
   }
   std::vector<double> expected;
-  pnh.getParam("expected_heights", expected);
+  if (!pnh.getParam("expected_heights", expected)) {
+    GTEST_SKIP() << "no ~expected_heights: this launch checks something else";
+  }
   const double tolerance = pnh.param("tolerance", 0.03);
   const int min_arrays = pnh.param("min_arrays", 2);
   const double timeout = pnh.param("timeout", 60.0);
@@ -147,8 +159,13 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
     sendMalformed(bad);
   }
 
-  ASSERT_TRUE(
-      waitFor([&] { return static_cast<int>(received.arrays.size()) >= min_arrays; }, timeout))
+  // Enough arrays, the last two in continuous time (not straddling a restart of the bag).
+  auto enough = [&] {
+    const auto& a = received.arrays;
+    return static_cast<int>(a.size()) >= std::max(min_arrays, 2) &&
+           a[a.size() - 2].header.stamp < a.back().header.stamp;
+  };
+  ASSERT_TRUE(waitFor(enough, timeout))
       << "fewer than " << min_arrays << " PlaneArray messages with planes on " << hope_ns
       << "/planes";
   hope::PlaneArray last;
@@ -175,16 +192,24 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
   std::set<int> ids;
   for (const auto& p : last.planes) EXPECT_TRUE(ids.insert(p.id).second) << "id twice:" << found;
   {
+    // Persistent ids are checked on the latest two consecutive arrays in continuous time: when
+    // the looping bag starts over, hope restarts its tracks (new ids).
     std::lock_guard<std::mutex> lock(received.mutex);
-    const auto& before = received.arrays[received.arrays.size() - 2];
-    for (const auto& p : before.planes) {
+    const auto& arrays = received.arrays;
+    std::size_t k = arrays.size() - 1;
+    while (k > 0 && !(arrays[k - 1].header.stamp < arrays[k].header.stamp)) --k;
+    ASSERT_GT(k, 0u);  // the wait above ensured the last two are in continuous time
+    std::size_t compared = 0;
+    for (const auto& p : arrays[k - 1].planes) {
       if (p.num_points < 2000) continue;  // big planes only: small ones may come and go
-      for (const auto& q : last.planes) {
+      for (const auto& q : arrays[k].planes) {
         if (std::fabs(p.height - q.height) < 0.01 && q.num_points >= 2000) {
           EXPECT_EQ(p.id, q.id) << "plane at " << p.height << " m changed its id";
+          ++compared;
         }
       }
     }
+    EXPECT_GT(compared, 0u) << "no big plane seen in two consecutive frames";
   }
 
   if (check_outputs) {
@@ -224,6 +249,112 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
     for (const auto& q : after.planes)
       EXPECT_GE(q.height, min_height) << "the new band was ignored";
   }
+}
+
+TEST(HopeNodelet, RefusedReconfigurationIsNotReported) {
+  ros::NodeHandle nh, pnh("~");
+  if (!pnh.param("reconfigure_rejected", false)) GTEST_SKIP() << "not asked for";
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  ASSERT_TRUE(ros::service::waitForService(hope_ns + "/set_parameters", 30000));
+  dynamic_reconfigure::Reconfigure srv;
+  for (const auto& [name, value] : {std::make_pair("min_height", 5.0), {"max_height", 1.0}}) {
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = name;
+    p.value = value;
+    srv.request.config.doubles.push_back(p);
+  }
+  ASSERT_TRUE(ros::service::call(hope_ns + "/set_parameters", srv));
+  double reported_min = 5, reported_max = 1;
+  for (const auto& d : srv.response.config.doubles) {
+    if (d.name == "min_height") reported_min = d.value;
+    if (d.name == "max_height") reported_max = d.value;
+  }
+  // min_height 5 > max_height 1 is no band: hope keeps the band it had, and says so.
+  EXPECT_LE(reported_min, reported_max);
+  EXPECT_NE(reported_min, 5.0);
+  double on_server = 5;
+  ASSERT_TRUE(nh.getParam(hope_ns + "/min_height", on_server));
+  EXPECT_EQ(on_server, reported_min);
+}
+
+TEST(HopeNodelet, PausedClockAndMissingTransformBlockNothing) {
+  ros::NodeHandle nh, pnh("~");
+  if (!pnh.param("paused_clock", false)) GTEST_SKIP() << "not asked for";
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  ros::Publisher clock = nh.advertise<rosgraph_msgs::Clock>("/clock", 1, true);
+  ros::Publisher clouds = nh.advertise<sensor_msgs::PointCloud2>(
+      pnh.param<std::string>("cloud_topic", "/camera/depth/points"), 10);
+  rosgraph_msgs::Clock now;
+  now.clock = ros::Time(100.0);
+  clock.publish(now);  // and never again: sim time stands still
+  ASSERT_TRUE(ros::service::waitForService(hope_ns + "/set_parameters", 30000));
+  ros::WallDuration(1.0).sleep();  // let hope connect to the clouds
+  for (int i = 0; i < 3; ++i) {
+    sensor_msgs::PointCloud2 c =
+        cloudWith({"x", "y", "z"}, sensor_msgs::PointField::FLOAT32, 4, 1, 48);
+    c.header.frame_id = "frame_without_tf";
+    c.header.stamp = ros::Time(100.0);
+    clouds.publish(c);
+    ros::WallDuration(0.2).sleep();
+  }
+  // Before the fix, the nodelet's one callback thread waited inside lookupTransform for a
+  // timeout that sim time never reached, and this call never returned.
+  auto reply = std::async(std::launch::async, [&] {
+    dynamic_reconfigure::Reconfigure srv;
+    dynamic_reconfigure::DoubleParameter p;
+    p.name = "min_area";
+    p.value = 0.01;
+    srv.request.config.doubles.push_back(p);
+    return ros::service::call(hope_ns + "/set_parameters", srv);
+  });
+  ASSERT_EQ(reply.wait_for(std::chrono::seconds(10)), std::future_status::ready)
+      << "dynamic_reconfigure did not answer within 10 s while a cloud waited for tf";
+  EXPECT_TRUE(reply.get());
+}
+
+TEST(HopeNodelet, DiagnosticsGoOnAfterTimeJumpsBack) {
+  ros::NodeHandle nh, pnh("~");
+  if (!pnh.param("diagnostics_after_jump", false)) GTEST_SKIP() << "not asked for";
+  std::mutex mutex;
+  ros::Time last_clock;
+  ros::WallTime jumped;  // wall time of the last jump back of /clock
+  std::vector<ros::WallTime> reports;
+  ros::Subscriber clock = nh.subscribe<rosgraph_msgs::Clock>(
+      "/clock", 100,
+      boost::function<void(const rosgraph_msgs::Clock::ConstPtr&)>(
+          [&](const rosgraph_msgs::Clock::ConstPtr& m) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (m->clock < last_clock) jumped = ros::WallTime::now();
+            last_clock = m->clock;
+          }));
+  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10,
+      boost::function<void(const diagnostic_msgs::DiagnosticArray::ConstPtr&)>(
+          [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+            for (const auto& status : m->status) {
+              if (status.name.find("processing") == std::string::npos) continue;
+              std::lock_guard<std::mutex> lock(mutex);
+              reports.push_back(ros::WallTime::now());
+            }
+          }));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  // Wait for a jump back of /clock, then for two reports after it.
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(60.0);
+  ros::WallTime after;
+  int later = 0;
+  while (ros::ok() && ros::WallTime::now() < until) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (after.isZero() && !jumped.isZero()) after = jumped;
+      later = 0;
+      for (const auto& r : reports) later += !after.isZero() && r > after ? 1 : 0;
+      if (later >= 2) break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  ASSERT_FALSE(after.isZero()) << "the bag never looped (no jump back of /clock)";
+  EXPECT_GE(later, 2) << "diagnostics stopped after the clock went back";
 }
 
 }  // namespace

@@ -2,10 +2,14 @@
 // seen by a moving depth camera (with tf, an IMU with orientation, and an accelerometer-only
 // IMU), and the TUM freiburg1_desk frame from ../shared/data with its ground-truth pose as tf
 // and as IMU orientation (skipped when the data is absent).
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <rosbag/bag.h>
@@ -88,6 +92,30 @@ void writeStatic(rosbag::Bag& bag, ros::Time stamp) {
   bag.write("/tf_static", stamp, tf);
 }
 
+// The ground truth of one rendered frame, one line: "stamp height:pixels ..." for every plane
+// label seen, its height the median world z of its pixels (noise included).
+std::string truthLine(double stamp, const hope::synthetic::RenderedFrame& frame,
+                      const pcl::PointCloud<pcl::PointXYZ>& cloud, const Eigen::Isometry3d& pose) {
+  std::map<int, std::vector<double>> heights;
+  for (int r = 0; r < frame.labels.rows; ++r) {
+    for (int c = 0; c < frame.labels.cols; ++c) {
+      const int label = frame.labels.at<int>(r, c);
+      const pcl::PointXYZ& p = cloud.at(c, r);
+      if (label == hope::synthetic::kNoPlane || !std::isfinite(p.z)) continue;
+      heights[label].push_back((pose * Eigen::Vector3d(p.x, p.y, p.z)).z());
+    }
+  }
+  std::ostringstream line;
+  line.precision(9);
+  line << stamp;
+  for (auto& entry : heights) {
+    std::vector<double>& z = entry.second;
+    std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+    line << " " << z[z.size() / 2] << ":" << z.size();
+  }
+  return line.str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -100,6 +128,8 @@ int main(int argc, char** argv) {
   {
     // Demo room: 5 frames at 5 Hz, the camera sliding 2 cm sideways per frame.
     rosbag::Bag bag(out + "/synthetic.bag", rosbag::bagmode::Write);
+    std::ofstream truth(out + "/synthetic_truth.txt");
+    truth << "# stamp, then height:pixels (world z, metres) of every surface the frame shows\n";
     const hope::synthetic::Scene room = hope::synthetic::demoRoom();
     writeStatic(bag, ros::Time(100.0));
     for (int f = 0; f < 5; ++f) {
@@ -110,6 +140,7 @@ int main(int argc, char** argv) {
       const auto frame = room.render(camera, noise);
       const auto cloud = hope::depthToCloud(frame.depth, camera.intrinsics, 1.0);
       writeFrame(bag, cloud, camera.pose, "odom", ros::Time(100.2 + 0.2 * f));
+      truth << truthLine(100.2 + 0.2 * f, frame, cloud, camera.pose) << "\n";
     }
     bag.close();
   }

@@ -2,7 +2,11 @@
 // against the scene's known answer. Parameters (private):
 //   expected_heights [m…]  planes that must be found (each within `tolerance`)
 //   tolerance (0.03), min_arrays (2), timeout (60 s), expected_frame (frame of the outputs)
-//   expected_count: the exact number of planes (when given)
+//   duration (0): listen this long (s) while the bag loops; every array received is checked
+//   truth_file: per-frame ground truth (stamp height:pixels …) from hope_make_test_bags; then
+//     every array is checked against its own frame's surfaces (height_offset is added to the
+//     truth's world heights, e.g. -1.5 for heights relative to the camera; surfaces seen by
+//     fewer than min_surface_pixels (2000) pixels need not be found)
 //   check_outputs (true): markers with text and a labeled cloud with a label field must arrive
 //   send_malformed (false): publish broken clouds on `cloud_topic` first; hope must live on
 //   reconfigure_min_height: set min_height through dynamic_reconfigure, then no plane below
@@ -18,8 +22,10 @@
 #include <fstream>
 #include <future>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
@@ -101,6 +107,28 @@ void sendMalformed(ros::Publisher& pub) {
   }
 }
 
+// stamp → (height, pixels) of every surface the frame shows, from hope_make_test_bags.
+using Truth = std::map<double, std::vector<std::pair<double, int>>>;
+Truth readTruth(const std::string& path) {
+  Truth truth;
+  if (path.empty()) return truth;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    double stamp;
+    fields >> stamp;
+    std::string surface;
+    while (fields >> surface) {
+      const std::size_t colon = surface.find(':');
+      truth[stamp].emplace_back(std::stod(surface.substr(0, colon)),
+                                std::stoi(surface.substr(colon + 1)));
+    }
+  }
+  return truth;
+}
+
 TEST(HopeNodelet, FindsTheKnownPlanes) {
   ros::NodeHandle nh, pnh("~");
   std::string required_bag;
@@ -108,9 +136,14 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
     GTEST_SKIP() << "no " << required_bag << " (../shared/data absent): skipped";
   }
   std::vector<double> expected;
-  if (!pnh.getParam("expected_heights", expected)) {
-    GTEST_SKIP() << "no ~expected_heights: this launch checks something else";
+  const std::string truth_file = pnh.param<std::string>("truth_file", "");
+  if (!pnh.getParam("expected_heights", expected) && truth_file.empty()) {
+    GTEST_SKIP() << "no ~expected_heights or ~truth_file: this launch checks something else";
   }
+  const Truth truth = readTruth(truth_file);
+  ASSERT_TRUE(truth_file.empty() || !truth.empty()) << "no ground truth in " << truth_file;
+  const double height_offset = pnh.param("height_offset", 0.0);
+  const int min_surface_pixels = pnh.param("min_surface_pixels", 2000);
   const double tolerance = pnh.param("tolerance", 0.03);
   const int min_arrays = pnh.param("min_arrays", 2);
   const double timeout = pnh.param("timeout", 60.0);
@@ -168,49 +201,116 @@ TEST(HopeNodelet, FindsTheKnownPlanes) {
   ASSERT_TRUE(waitFor(enough, timeout))
       << "fewer than " << min_arrays << " PlaneArray messages with planes on " << hope_ns
       << "/planes";
-  hope::PlaneArray last;
+  // With `duration`, go on listening while the bag loops, then check every array received.
+  const double duration = pnh.param("duration", 0.0);
+  if (duration > 0) ros::WallDuration(duration).sleep();
+  std::vector<hope::PlaneArray> arrays;
   {
     std::lock_guard<std::mutex> lock(received.mutex);
-    last = received.arrays.back();
+    arrays = received.arrays;
   }
-  std::string found;
-  for (const auto& p : last.planes)
-    found += " " + std::to_string(p.id) + "@" + std::to_string(p.height);
-  int expected_count;
-  if (pnh.getParam("expected_count", expected_count)) {
-    EXPECT_EQ(static_cast<int>(last.planes.size()), expected_count) << "planes:" << found;
-  }
-  if (!expected_frame.empty()) {
-    EXPECT_EQ(last.header.frame_id, expected_frame);
-  }
-  for (double h : expected) {
-    bool hit = false;
-    for (const auto& p : last.planes) hit = hit || std::fabs(p.height - h) <= tolerance;
-    EXPECT_TRUE(hit) << "no plane at " << h << " m; planes:" << found;
-  }
-  // Ids are unique in a frame and persistent: the previous array's planes keep theirs.
-  std::set<int> ids;
-  for (const auto& p : last.planes) EXPECT_TRUE(ids.insert(p.id).second) << "id twice:" << found;
-  {
-    // Persistent ids are checked on the latest two consecutive arrays in continuous time: when
-    // the looping bag starts over, hope restarts its tracks (new ids).
-    std::lock_guard<std::mutex> lock(received.mutex);
-    const auto& arrays = received.arrays;
-    std::size_t k = arrays.size() - 1;
-    while (k > 0 && !(arrays[k - 1].header.stamp < arrays[k].header.stamp)) --k;
-    ASSERT_GT(k, 0u);  // the wait above ensured the last two are in continuous time
-    std::size_t compared = 0;
-    for (const auto& p : arrays[k - 1].planes) {
-      if (p.num_points < 2000) continue;  // big planes only: small ones may come and go
-      for (const auto& q : arrays[k].planes) {
-        if (std::fabs(p.height - q.height) < 0.01 && q.num_points >= 2000) {
-          EXPECT_EQ(p.id, q.id) << "plane at " << p.height << " m changed its id";
-          ++compared;
-        }
+  auto describe = [](const hope::PlaneArray& a) {
+    std::string text = "at " + std::to_string(a.header.stamp.toSec()) + ":";
+    for (const auto& p : a.planes)
+      text += " " + std::to_string(p.id) + "@" + std::to_string(p.height);
+    return text;
+  };
+  // Every array, not only the last: a frame where a surface is missing must fail every time,
+  // not only when it happens to be the last one received. With a truth file, each array is
+  // checked against the surfaces its own frame shows: every surface seen by at least
+  // `min_surface_pixels` pixels has a plane at its height, and every plane lies at the height
+  // of a surface the frame shows (none invented). A surface seen in several parts may give
+  // several planes (the "one surface, one plane" merge is separate work).
+  std::size_t wrong_frame = 0, missing = 0, invented = 0, twice = 0, without_truth = 0;
+  std::string first_problem;
+  for (const hope::PlaneArray& a : arrays) {
+    std::string problem;
+    if (!expected_frame.empty() && a.header.frame_id != expected_frame) ++wrong_frame;
+    std::vector<std::pair<double, int>> surfaces;  // height, pixels
+    if (!truth.empty()) {
+      const auto it = truth.lower_bound(a.header.stamp.toSec() - 1e-3);
+      if (it == truth.end() || std::fabs(it->first - a.header.stamp.toSec()) > 1e-3) {
+        ++without_truth;
+        continue;
+      }
+      for (const auto& s : it->second) surfaces.emplace_back(s.first + height_offset, s.second);
+    } else {
+      for (double h : expected) surfaces.emplace_back(h, min_surface_pixels);
+    }
+    for (const auto& surface : surfaces) {
+      if (surface.second < min_surface_pixels) continue;
+      bool hit = false;
+      for (const auto& p : a.planes) hit = hit || std::fabs(p.height - surface.first) <= tolerance;
+      if (!hit) {
+        ++missing;
+        problem += " no plane at " + std::to_string(surface.first) + " m";
       }
     }
-    EXPECT_GT(compared, 0u) << "no big plane seen in two consecutive frames";
+    for (const auto& p : a.planes) {
+      bool real = false;
+      for (const auto& surface : surfaces) {
+        real = real || std::fabs(p.height - surface.first) <= tolerance;
+      }
+      if (!real && !truth.empty()) {
+        ++invented;
+        problem += " plane " + std::to_string(p.id) + " at " + std::to_string(p.height) +
+                   " m is no surface";
+      }
+    }
+    std::set<int> ids;
+    for (const auto& p : a.planes) {
+      if (!ids.insert(p.id).second) {
+        ++twice;
+        problem += " id " + std::to_string(p.id) + " twice";
+      }
+    }
+    if (!problem.empty() && first_problem.empty()) {
+      first_problem = problem + " (" + describe(a) + ")";
+    }
   }
+  EXPECT_EQ(without_truth, 0u) << "arrays whose stamp is in no truth line of " << truth_file;
+  EXPECT_EQ(wrong_frame, 0u) << "arrays not in " << expected_frame;
+  EXPECT_EQ(missing, 0u) << "surfaces missing over " << arrays.size()
+                         << " arrays; first: " << first_problem;
+  EXPECT_EQ(invented, 0u) << "planes where there is no surface; first: " << first_problem;
+  EXPECT_EQ(twice, 0u) << "ids given twice in one array; first: " << first_problem;
+
+  // Ids persist between consecutive arrays in continuous time (when the looping bag starts
+  // over, hope restarts its tracks). A plane and its counterpart are the mutually best
+  // overlapping pair at the same height, so two parts of one surface are never compared with
+  // each other, and a split or a merge (the larger part keeps the id) is judged by its larger
+  // part.
+  std::size_t compared = 0;
+  for (std::size_t k = 1; k < arrays.size(); ++k) {
+    if (!(arrays[k - 1].header.stamp < arrays[k].header.stamp)) continue;
+    const auto& before = arrays[k - 1].planes;
+    const auto& now = arrays[k].planes;
+    auto overlap = [](const hope::Plane& a, const hope::Plane& b) {
+      if (std::fabs(a.height - b.height) > 0.01) return 0.0;
+      const double dx = std::min(a.x_max, b.x_max) - std::max(a.x_min, b.x_min);
+      const double dy = std::min(a.y_max, b.y_max) - std::max(a.y_min, b.y_min);
+      return std::max(dx, 0.0) * std::max(dy, 0.0);
+    };
+    auto best = [&](const hope::Plane& p, const std::vector<hope::Plane>& among) {
+      int index = -1;
+      double most = 0;
+      for (std::size_t i = 0; i < among.size(); ++i) {
+        const double o = overlap(p, among[i]);
+        if (o > most) most = o, index = static_cast<int>(i);
+      }
+      return index;
+    };
+    for (std::size_t i = 0; i < before.size(); ++i) {
+      const hope::Plane& p = before[i];
+      if (p.num_points < 2000) continue;  // big planes only: small ones may come and go
+      const int j = best(p, now);
+      if (j < 0 || best(now[j], before) != static_cast<int>(i)) continue;
+      EXPECT_EQ(p.id, now[j].id) << "plane at " << p.height << " m changed its id between "
+                                 << describe(arrays[k - 1]) << " and " << describe(arrays[k]);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 0u) << "no big plane seen in two consecutive frames";
 
   if (check_outputs) {
     ASSERT_TRUE(waitFor([] { return received.have_markers && received.have_cloud; }, 10.0))

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Runs the whole benchmark (hope beside PCL's reference stages, the nodelet's work per frame,
+# tracking with 50 and 1,000 planes) and writes it to docs/benchmark_latest.txt, where the
+# README's speed figures come from. Usage: scripts/benchmark.sh [extra benchmark flags]
+set -euo pipefail
+export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+bash scripts/build.sh
+{
+  date -Iseconds
+  echo "Running ./build/devel/lib/hope/hope_benchmark $*"
+  ./build/devel/lib/hope/hope_benchmark "$@" 2>&1
+} | tee docs/benchmark_latest.txt

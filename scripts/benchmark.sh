@@ -7,8 +7,5 @@ export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 bash scripts/build.sh
-{
-  date -Iseconds
-  echo "Running ./build/devel/lib/hope/hope_benchmark $*"
-  ./build/devel/lib/hope/hope_benchmark "$@" 2>&1
-} | tee docs/benchmark_latest.txt
+# Google Benchmark's own header carries the date, the command and the machine.
+./build/devel/lib/hope/hope_benchmark "$@" 2>&1 | tee docs/benchmark_latest.txt

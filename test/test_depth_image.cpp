@@ -35,6 +35,19 @@ TEST(DepthImage, ZeroDepthBecomesNaNAndFloatDepthIsMetres) {
   EXPECT_FLOAT_EQ(cloud.at(1, 1).x, 1.5f / 100);
 }
 
+TEST(DepthImage, ImageOneRowOrOneColumnHighBackProjects) {
+  // Found by fuzzing: PCL's 2-D accessor throws for a cloud one row high.
+  for (const cv::Size size : {cv::Size(5, 1), cv::Size(1, 5), cv::Size(1, 1)}) {
+    cv::Mat depth(size, CV_16UC1, cv::Scalar(3000));
+    const auto cloud = depthToCloud(depth, PinholeIntrinsics{100, 100, 0, 0}, 1000);
+    ASSERT_EQ(cloud.size(), static_cast<std::size_t>(size.area()));
+    EXPECT_EQ(cloud.width, static_cast<std::uint32_t>(size.width));
+    EXPECT_EQ(cloud.height, static_cast<std::uint32_t>(size.height));
+    for (const auto& p : cloud) EXPECT_FLOAT_EQ(p.z, 3.0f);
+    EXPECT_FLOAT_EQ(cloud.back().x, 3.0f * (size.width - 1) / 100);
+  }
+}
+
 TEST(DepthImage, WrongTypesAndIntrinsicsAreClearErrors) {
   const PinholeIntrinsics good = PinholeIntrinsics::tumFreiburg1();
   EXPECT_THROW(depthToCloud(cv::Mat(), good, 5000), std::invalid_argument);

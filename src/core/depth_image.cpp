@@ -53,7 +53,8 @@ pcl::PointCloud<PointT> backProject(const cv::Mat& depth, const PinholeIntrinsic
   const bool is_float = depth.type() == CV_32FC1;
   for (int r = 0; r < depth.rows; ++r) {
     for (int c = 0; c < depth.cols; ++c) {
-      PointT& p = cloud.at(c, r);
+      // Indexed directly: PCL's at(c, r) throws for an image one row high (found by fuzzing).
+      PointT& p = cloud.points[static_cast<std::size_t>(r) * depth.cols + c];
       colorize(p, r, c);
       const double z = is_float ? static_cast<double>(depth.at<float>(r, c))
                                 : depth.at<std::uint16_t>(r, c) * unit;

@@ -15,12 +15,19 @@
 //     the parameter server must keep the band in effect
 //   paused_clock (false): publish /clock once and a cloud no transform exists for; hope must
 //     keep answering dynamic_reconfigure (its callback thread never waits for tf)
+//   soak_seconds (0): listen to the input and all three outputs that long; the input must
+//     come at 90 % of `soak_rate_hz` (30) or more, hope must answer every cloud with a
+//     PlaneArray (no frame dropped), and the nodelet manager's resident memory must grow by
+//     less than 5 % after the first fifth
 //   diagnostics_after_jump (false): after /clock jumps back (the bag loops), /diagnostics
 //     must still come, twice within 5 s
 #include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <future>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -455,6 +462,94 @@ TEST(HopeNodelet, DiagnosticsGoOnAfterTimeJumpsBack) {
   }
   ASSERT_FALSE(after.isZero()) << "the bag never looped (no jump back of /clock)";
   EXPECT_GE(later, 2) << "diagnostics stopped after the clock went back";
+}
+
+// Resident memory (kB) of the process whose command line holds `needle`, or -1.
+long residentKb(const std::string& needle) {
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string pid = entry.path().filename();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream cmdline(entry.path() / "cmdline");
+    std::string args((std::istreambuf_iterator<char>(cmdline)), std::istreambuf_iterator<char>());
+    for (char& c : args) c = c == '\0' ? ' ' : c;
+    if (args.find(needle) == std::string::npos) continue;
+    std::ifstream status(entry.path() / "status");
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+    }
+  }
+  return -1;
+}
+
+TEST(HopeNodelet, SoaksWithoutDroppingFramesOrGrowing) {
+  ros::NodeHandle nh, pnh("~");
+  const double seconds = pnh.param("soak_seconds", 0.0);
+  if (seconds <= 0) GTEST_SKIP() << "not asked for";
+  const double rate = pnh.param("soak_rate_hz", 30.0);
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const std::string manager = pnh.param<std::string>("manager_name", "__name:=manager");
+  std::mutex mutex;
+  // Every input cloud and every PlaneArray (hope publishes one per processed frame) are
+  // counted with deep queues; the labeled cloud and markers are subscribed as a user would.
+  std::size_t inputs = 0, planes_seen = 0, clouds_seen = 0, markers_seen = 0;
+  auto count = [&](std::size_t& n) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++n;
+  };
+  ros::Subscriber s0 = nh.subscribe<sensor_msgs::PointCloud2>(
+      pnh.param<std::string>("cloud_topic", "/camera/depth/points"), 100,
+      boost::function<void(const sensor_msgs::PointCloud2::ConstPtr&)>(
+          [&](const sensor_msgs::PointCloud2::ConstPtr&) { count(inputs); }));
+  ros::Subscriber s1 = nh.subscribe<hope::PlaneArray>(
+      hope_ns + "/planes", 100,
+      boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+          [&](const hope::PlaneArray::ConstPtr&) { count(planes_seen); }));
+  ros::Subscriber s2 = nh.subscribe<sensor_msgs::PointCloud2>(
+      hope_ns + "/labeled_cloud", 1,
+      boost::function<void(const sensor_msgs::PointCloud2::ConstPtr&)>(
+          [&](const sensor_msgs::PointCloud2::ConstPtr&) { count(clouds_seen); }));
+  ros::Subscriber s3 = nh.subscribe<visualization_msgs::MarkerArray>(
+      hope_ns + "/markers", 1,
+      boost::function<void(const visualization_msgs::MarkerArray::ConstPtr&)>(
+          [&](const visualization_msgs::MarkerArray::ConstPtr&) { count(markers_seen); }));
+  ros::AsyncSpinner spinner(4);
+  spinner.start();
+  // Warm-up: the first fifth (at least 10 s); then memory must stay flat.
+  const double warm_up = std::max(10.0, seconds / 5);
+  ros::WallDuration(warm_up).sleep();
+  std::size_t inputs_0, planes_0;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    inputs_0 = inputs;
+    planes_0 = planes_seen;
+  }
+  const long rss_after_warm_up = residentKb(manager);
+  ASSERT_GT(rss_after_warm_up, 0) << "no process with '" << manager << "' in its command line";
+  ros::WallDuration(seconds - warm_up).sleep();
+  std::size_t inputs_1;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    inputs_1 = inputs;
+  }
+  ros::WallDuration(0.5).sleep();  // the frames in flight at the end come out
+  std::lock_guard<std::mutex> lock(mutex);
+  const long rss_at_end = residentKb(manager);
+  const double span = seconds - warm_up;
+  const double in = static_cast<double>(inputs_1 - inputs_0);
+  const double out = static_cast<double>(planes_seen - planes_0);
+  std::printf(
+      "soak: %.0f s after a %.0f s warm-up: %.0f clouds in (%.1f/s), %.0f PlaneArrays out "
+      "(%zu labeled clouds, %zu marker arrays in all); manager RSS %ld kB after warm-up, %ld kB "
+      "at the end (%+.2f %%)\n",
+      span, warm_up, in, in / span, out, clouds_seen, markers_seen, rss_after_warm_up, rss_at_end,
+      100.0 * (rss_at_end - rss_after_warm_up) / rss_after_warm_up);
+  EXPECT_GE(in, 0.9 * rate * span) << "the bag did not play at " << rate << " Hz";
+  // One frame may be in flight at either end of the window.
+  EXPECT_GE(out, in - 2) << "hope dropped frames: it fell behind the input rate";
+  EXPECT_GT(clouds_seen, 0u);
+  EXPECT_GT(markers_seen, 0u);
+  EXPECT_LT(rss_at_end, 1.05 * rss_after_warm_up) << "memory grew by 5 % or more";
 }
 
 }  // namespace

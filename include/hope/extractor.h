@@ -25,6 +25,7 @@ struct StageTimings {
   double clustering_ms = 0;
   double refinement_ms = 0;
   double description_ms = 0;
+  double merging_ms = 0;  // the fragment merge (fragment_merging.h), 0 when switched off
   double total_ms = 0;
 };
 
@@ -48,6 +49,8 @@ struct Result {
   std::size_t clusters = 0;
   std::size_t rejected_by_refinement = 0;
   std::size_t rejected_by_band_or_area = 0;
+  // Planes that the fragment merge joined into another (fragment_merging.h).
+  std::size_t merged_fragments = 0;
   // Suspicious input that still produced a result (e.g. a cloud that looks like millimetres).
   std::vector<std::string> warnings;
 

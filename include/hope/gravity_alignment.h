@@ -2,6 +2,7 @@
 // reference frame F_r whose z axis points up.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,9 @@ namespace hope {
 // Eq 2 as printed in the paper is the transpose of R.
 class Orientation {
  public:
-  // The cloud is already z-up (the paper's "omit when F_r equals F_s").
+  // The cloud is already z-up (the paper's "omit when F_r equals F_s"). Where the sensor was
+  // is unknown (a merged map, a scan already in world coordinates): add it withViewpoint()
+  // when it is known.
   static Orientation identity();
   // Quaternion in ROS order (x, y, z, w). Non-unit quaternions are normalized; zero-length,
   // NaN or infinite ones throw std::invalid_argument.
@@ -34,12 +37,20 @@ class Orientation {
   // Any rigid transform (sensor → reference); the rotation is re-orthonormalized.
   static Orientation fromTransform(const Eigen::Isometry3d& sensor_to_reference);
 
+  // A copy that records where the sensor was, in the reference frame. Every factory but
+  // identity() sets it to the sensor frame's origin (the translation; zero for a rotation).
+  Orientation withViewpoint(const Eigen::Vector3d& viewpoint) const;
+
   const Eigen::Isometry3d& sensorToReference() const { return transform_; }
+  // The sensor's position in the reference frame, when known. The fragment merge uses it to
+  // tell a shadow from a real gap, and the plane's facing (up/down) comes from it.
+  const std::optional<Eigen::Vector3d>& viewpoint() const { return viewpoint_; }
   std::string describe() const;
 
  private:
-  explicit Orientation(const Eigen::Isometry3d& t) : transform_(t) {}
+  explicit Orientation(const Eigen::Isometry3d& t) : transform_(t), viewpoint_(t.translation()) {}
   Eigen::Isometry3d transform_ = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Vector3d> viewpoint_;
 };
 
 // Aligned points are stored as float, whose centimetres are gone beyond ~100 km (a pose in

@@ -27,6 +27,12 @@ struct Params {
   double max_height = std::numeric_limits<double>::infinity();
   // Optional minimum plane area in m² (footprint at grid resolution). Off by default.
   double min_area = 0.0;
+  // Fragment merge (a departure from the paper, see fragment_merging.h): planes at one height
+  // that clutter or occlusion cut apart are joined into one surface when nothing seen between
+  // them contradicts it. false reproduces the paper exactly (one plane per connected region).
+  bool merge_fragments = true;
+  // The widest gap (metres) between two fragments that the merge may bridge.
+  double max_merge_gap = 1.0;
 
   // γ of Eq 3 and Eq 10.
   double gamma() const { return r_z / r_xy; }

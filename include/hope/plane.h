@@ -9,6 +9,12 @@
 
 namespace hope {
 
+// Which side of the plane the sensor saw: kUp for a surface seen from above (floor, table
+// top, stair tread), kDown for one seen from below (a ceiling, a shelf's underside), kUnknown
+// when the sensor's position was not given (Orientation::identity() without a viewpoint).
+enum class Facing { kUnknown, kUp, kDown };
+const char* toString(Facing facing);
+
 struct HorizontalPlane {
   // Extraction order within the frame (0, 1, …); the tracker replaces it with a persistent id.
   int id = 0;
@@ -26,6 +32,10 @@ struct HorizontalPlane {
   double area = 0.0;
   std::size_t num_voxels = 0;
   std::size_t num_points = 0;
+  // How many connected regions (the paper's planes) the fragment merge joined into this one
+  // physical surface; 1 when nothing was merged (see fragment_merging.h).
+  int num_parts = 1;
+  Facing facing = Facing::kUnknown;
   // Convex hull of the plane's points in xy, counter-clockwise seen from above, at z = height.
   std::vector<Eigen::Vector3d> hull;
   // The two angles of the refinement test (Eq 10), for diagnostics.

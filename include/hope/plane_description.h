@@ -12,10 +12,16 @@
 
 namespace hope {
 
+// How much of a plane to measure. kFull reads every input point of the plane (bbox and hull
+// from the points themselves); kVoxels only the voxels (bbox from the occupied grid cells, no
+// hull), which is all the fragment merge needs before the final description.
+enum class Detail { kFull, kVoxels };
+
 // Height, bbox, centroid, least-squares normal, footprint area, counts and convex hull of the
 // input points in the cluster's voxels. `id` and the refinement angles are left to the caller.
 HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
-                              const std::vector<std::uint32_t>& members);
+                              const std::vector<std::uint32_t>& members,
+                              Detail detail = Detail::kFull);
 
 // Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
 // than three distinct points come back as they are (deduplicated).

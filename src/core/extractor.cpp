@@ -1,8 +1,10 @@
 #include "hope/extractor.h"
 
 #include <chrono>
+#include <optional>
 #include <sstream>
 
+#include "hope/fragment_merging.h"
 #include "hope/horizontal_candidates.h"
 #include "hope/normal_estimation.h"
 #include "hope/pca_refinement.h"
@@ -75,48 +77,132 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.clusters = clusters.size();
   result.timings.clustering_ms = stage.lap();
 
-  std::vector<std::size_t> kept;
   std::vector<RefinementVerdict> verdicts(clusters.size());
+  std::vector<std::uint8_t> accepted(clusters.size(), 0);
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     verdicts[c] = refineWithPCA(normals_, clusters[c], gamma);
-    if (verdicts[c].horizontal &&
-        footprintMinorVariance(grid_, clusters[c]) >= kMinFootprintVariance) {
-      kept.push_back(c);
-    }
+    accepted[c] = verdicts[c].horizontal &&
+                  footprintMinorVariance(grid_, clusters[c]) >= kMinFootprintVariance;
   }
-  result.rejected_by_refinement = clusters.size() - kept.size();
   result.timings.refinement_ms = stage.lap();
 
-  result.point_labels.assign(cloud.count, -1);
-  voxel_plane_.assign(grid_.numVoxels(), -1);
-  for (std::size_t c : kept) {
-    HorizontalPlane plane = describePlane(grid_, aligned_, clusters[c]);
-    plane.translate(result.local_origin);
+  // Description of each cluster, in the grid's coordinates (the merge works there). With the
+  // merge on, rejected clusters are described too (they may join an accepted surface), and
+  // only from their voxels: every surface is measured in full once it is complete.
+  const bool merge = params_.merge_fragments;
+  std::vector<Fragment> fragments;
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    if (!accepted[c] && !merge) continue;
+    Fragment fragment{
+        describePlane(grid_, aligned_, clusters[c], merge ? Detail::kVoxels : Detail::kFull),
+        &clusters[c], accepted[c] != 0};
     // The plane fitted through the cluster's points must itself be within the accepted slope:
     // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
     // level strips), and the fit over the whole strip sees what the normals miss.
-    if (plane.tilt > params_.maxSlope()) {
-      ++result.rejected_by_refinement;
-      continue;
+    if (fragment.plane.tilt > params_.maxSlope()) fragment.accepted = false;
+    if (!fragment.accepted && !merge) continue;
+    fragment.plane.mean_normal_tilt = verdicts[c].mean_tilt;
+    fragment.plane.group_angle = verdicts[c].group_angle;
+    fragments.push_back(std::move(fragment));
+  }
+  std::size_t accepted_fragments = 0;
+  for (const Fragment& f : fragments) accepted_fragments += f.accepted ? 1 : 0;
+  result.rejected_by_refinement = clusters.size() - accepted_fragments;
+  result.timings.description_ms = stage.lap();
+
+  std::optional<Eigen::Vector3d> viewpoint;
+  if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
+  const std::vector<std::vector<std::size_t>> groups =
+      groupFragments(grid_, fragments, viewpoint, params_);
+
+  // The surfaces: groups with at least one accepted fragment (a rejected one never stands
+  // alone). voxel_plane_ holds the surface index of each voxel until the ids are known.
+  struct Surface {
+    HorizontalPlane plane;
+    std::vector<std::uint32_t> voxels;
+  };
+  std::vector<Surface> surfaces;
+  voxel_plane_.assign(grid_.numVoxels(), -1);
+  for (const std::vector<std::size_t>& group : groups) {
+    std::size_t largest = group.front();
+    for (std::size_t k : group) {
+      if (fragments[k].accepted && (!fragments[largest].accepted ||
+                                    fragments[k].plane.area > fragments[largest].plane.area)) {
+        largest = k;
+      }
     }
+    if (!fragments[largest].accepted) continue;
+    Surface surface;
+    for (std::size_t k : group) {
+      surface.voxels.insert(surface.voxels.end(), fragments[k].voxels->begin(),
+                            fragments[k].voxels->end());
+      if (!fragments[k].accepted) --result.rejected_by_refinement;
+    }
+    if (group.size() == 1) {
+      surface.plane = std::move(fragments[largest].plane);
+    } else {
+      surface.plane = describePlane(grid_, aligned_, surface.voxels, Detail::kVoxels);
+      surface.plane.num_parts = static_cast<int>(group.size());
+      // The refinement angles of the largest accepted part.
+      surface.plane.mean_normal_tilt = fragments[largest].plane.mean_normal_tilt;
+      surface.plane.group_angle = fragments[largest].plane.group_angle;
+      result.merged_fragments += group.size() - 1;
+    }
+    for (std::uint32_t v : surface.voxels) {
+      voxel_plane_[v] = static_cast<std::int32_t>(surfaces.size());
+    }
+    surfaces.push_back(std::move(surface));
+  }
+  if (merge) {
+    // Surface completion (fragment_merging.h) once every surface owns its voxels, so that no
+    // surface grows into another.
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      completeSurface(grid_, surfaces[k].plane, params_.r_z, static_cast<std::int32_t>(k),
+                      voxel_plane_, surfaces[k].voxels);
+    }
+  }
+  result.timings.merging_ms = stage.lap();
+  if (merge) {
+    // Each surface measured in full, as the paper's planes are.
+    for (Surface& surface : surfaces) {
+      HorizontalPlane full = describePlane(grid_, aligned_, surface.voxels);
+      full.num_parts = surface.plane.num_parts;
+      full.mean_normal_tilt = surface.plane.mean_normal_tilt;
+      full.group_angle = surface.plane.group_angle;
+      surface.plane = std::move(full);
+    }
+  }
+
+  // Ids in order, after the optional height band and minimum area; the voxels of a dropped
+  // surface belong to no plane.
+  std::vector<std::int32_t> plane_of_surface(surfaces.size(), -1);
+  for (std::size_t k = 0; k < surfaces.size(); ++k) {
+    HorizontalPlane& plane = surfaces[k].plane;
+    plane.translate(result.local_origin);
     if (plane.height < params_.min_height || plane.height > params_.max_height ||
         plane.area < params_.min_area) {
       ++result.rejected_by_band_or_area;
       continue;
     }
+    if (orientation.viewpoint()) {
+      const Eigen::Vector3d& eye = *orientation.viewpoint();
+      plane.facing = plane.normal.dot(eye - plane.centroid) >= 0 ? Facing::kUp : Facing::kDown;
+    }
     plane.id = static_cast<int>(result.planes.size());
-    plane.mean_normal_tilt = verdicts[c].mean_tilt;
-    plane.group_angle = verdicts[c].group_angle;
-    for (std::uint32_t v : clusters[c]) voxel_plane_[v] = plane.id;
+    plane_of_surface[k] = plane.id;
     result.planes.push_back(std::move(plane));
   }
+  for (std::int32_t& owner : voxel_plane_) {
+    if (owner >= 0) owner = plane_of_surface[static_cast<std::size_t>(owner)];
+  }
+  result.point_labels.assign(cloud.count, -1);
   // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
   // small enough to stay in cache), rather than scattered writes plane by plane.
   const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
   for (std::size_t i = 0; i < point_voxel.size(); ++i) {
     if (point_voxel[i] >= 0) result.point_labels[i] = voxel_plane_[point_voxel[i]];
   }
-  result.timings.description_ms = stage.lap();
+  result.timings.description_ms += stage.lap();
   result.timings.total_ms = total.lap();
   return result;
 }

@@ -40,7 +40,18 @@ void requireFinite(const char* what, double a, double b, double c) {
 
 }  // namespace
 
-Orientation Orientation::identity() { return Orientation(Eigen::Isometry3d::Identity()); }
+Orientation Orientation::identity() {
+  Orientation o(Eigen::Isometry3d::Identity());
+  o.viewpoint_.reset();
+  return o;
+}
+
+Orientation Orientation::withViewpoint(const Eigen::Vector3d& viewpoint) const {
+  requireFinite("viewpoint", viewpoint.x(), viewpoint.y(), viewpoint.z());
+  Orientation o = *this;
+  o.viewpoint_ = viewpoint;
+  return o;
+}
 
 Orientation Orientation::fromQuaternion(double qx, double qy, double qz, double qw) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -63,6 +74,7 @@ Orientation Orientation::fromPose(double tx, double ty, double tz, double qx, do
   requireFinite("pose translation", tx, ty, tz);
   Orientation o = fromQuaternion(qx, qy, qz, qw);
   o.transform_.translation() = Eigen::Vector3d(tx, ty, tz);
+  o.viewpoint_ = o.transform_.translation();
   return o;
 }
 

@@ -46,6 +46,8 @@ void validate(const Params& p) {
     throw std::invalid_argument(msg.str());
   }
   requireRange("min_area", p.min_area, 0.0, 1e6, " (square metres)");
+  requireRange("max_merge_gap", p.max_merge_gap, 0.0, 100.0,
+               " (metres: the widest gap between two fragments of one surface)");
 }
 
 }  // namespace hope

@@ -15,6 +15,18 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
 
 }  // namespace
 
+const char* toString(Facing facing) {
+  switch (facing) {
+    case Facing::kUp:
+      return "up";
+    case Facing::kDown:
+      return "down";
+    case Facing::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
 std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
   auto less = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
@@ -37,7 +49,7 @@ std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
 }
 
 HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
-                              const std::vector<std::uint32_t>& members) {
+                              const std::vector<std::uint32_t>& members, Detail detail) {
   HorizontalPlane plane;
   plane.num_voxels = members.size();
   if (members.empty()) return plane;
@@ -52,7 +64,7 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   // The hull of all points equals the hull of each voxel's xy-extreme points, which are far
   // fewer: up to four per voxel.
   std::vector<Eigen::Vector2d> hull_candidates;
-  hull_candidates.reserve(4 * members.size());
+  if (detail == Detail::kFull) hull_candidates.reserve(4 * members.size());
   std::vector<std::uint64_t> columns;
   columns.reserve(members.size());
   std::size_t count = 0;
@@ -61,14 +73,21 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
     columns.push_back(grid.column(v));
     const std::uint32_t* begin = grid.pointsBegin(v);
     const std::uint32_t* end = grid.pointsEnd(v);
-    // Indices of the min x, max x, min y, max y points, with their coordinates cached.
-    std::uint32_t extreme[4] = {*begin, *begin, *begin, *begin};
-    const Eigen::Vector3f& first = aligned[*begin];
-    float min_x = first.x(), max_x = first.x(), min_y = first.y(), max_y = first.y();
     const double weight = static_cast<double>(end - begin);
     const Eigen::Vector3d d = grid.centroid(v).cast<double>() - ref;
     sum += weight * d;
     outer.noalias() += weight * d * d.transpose();
+    count += static_cast<std::size_t>(end - begin);
+    if (detail == Detail::kVoxels) {
+      const double x0 = grid.cellMinX(grid.cellX(v)), y0 = grid.cellMinY(grid.cellY(v));
+      lo = lo.cwiseMin(Eigen::Vector2d(x0, y0));
+      hi = hi.cwiseMax(Eigen::Vector2d(x0 + grid.rXY(), y0 + grid.rXY()));
+      continue;
+    }
+    // Indices of the min x, max x, min y, max y points, with their coordinates cached.
+    std::uint32_t extreme[4] = {*begin, *begin, *begin, *begin};
+    const Eigen::Vector3f& first = aligned[*begin];
+    float min_x = first.x(), max_x = first.x(), min_y = first.y(), max_y = first.y();
     for (const std::uint32_t* it = begin + 1; it != end; ++it) {
       const Eigen::Vector3f& p = aligned[*it];
       if (p.x() < min_x) {
@@ -88,7 +107,6 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
         extreme[3] = *it;
       }
     }
-    count += static_cast<std::size_t>(end - begin);
     for (const std::uint32_t e : extreme) {
       const Eigen::Vector3f& p = aligned[e];
       hull_candidates.emplace_back(p.x(), p.y());
@@ -116,6 +134,7 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   const auto distinct = std::unique(columns.begin(), columns.end()) - columns.begin();
   plane.area = static_cast<double>(distinct) * grid.rXY() * grid.rXY();
 
+  if (detail == Detail::kVoxels) return plane;
   for (const Eigen::Vector2d& h : convexHull2D(std::move(hull_candidates))) {
     plane.hull.emplace_back(h.x(), h.y(), plane.height);
   }

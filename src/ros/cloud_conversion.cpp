@@ -128,6 +128,10 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
     m.tilt = p.tilt;
     m.area = p.area;
     m.num_points = static_cast<std::uint32_t>(p.num_points);
+    m.num_parts = p.num_parts;
+    m.facing = p.facing == hope::Facing::kUp     ? hope::Plane::FACING_UP
+               : p.facing == hope::Facing::kDown ? hope::Plane::FACING_DOWN
+                                                 : hope::Plane::FACING_UNKNOWN;
     for (const auto& h : p.hull) {
       geometry_msgs::Point32 q;
       q.x = static_cast<float>(h.x());

@@ -347,7 +347,9 @@ void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& clou
   noteArrival(*cloud);
   const std::string cloud_frame = frameId(cloud->header.frame_id);
   if (source_ == "none") {
-    process(cloud, hope::Orientation::identity(), cloud_frame);
+    // A cloud already z-up in its own frame: the sensor is at that frame's origin.
+    process(cloud, hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()),
+            cloud_frame);
     return;
   }
   if (source_ == "fixed") {
@@ -487,6 +489,8 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   params.min_height = config.min_height <= -1000.0 ? hope::Params().min_height : config.min_height;
   params.max_height = config.max_height >= 1000.0 ? hope::Params().max_height : config.max_height;
   params.min_area = config.min_area;
+  params.merge_fragments = config.merge_fragments;
+  params.max_merge_gap = config.max_merge_gap;
   // Each part is checked on its own: a bad value keeps the last good one of its part only.
   std::lock_guard<std::mutex> lock(pending_mutex_);
   try {
@@ -510,11 +514,14 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   config.min_height = std::max(p.min_height, -1000.0);
   config.max_height = std::min(p.max_height, 1000.0);
   config.min_area = p.min_area;
+  config.merge_fragments = p.merge_fragments;
+  config.max_merge_gap = p.max_merge_gap;
   config.tracking_mode = hope::toString(pending_tracker_.mode);
   NODELET_INFO(
-      "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, "
-      "tracking %s",
-      p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area, hope::toString(pending_tracker_.mode));
+      "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, fragment "
+      "merge %s (gap <= %g m), tracking %s",
+      p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area, p.merge_fragments ? "on" : "off",
+      p.max_merge_gap, hope::toString(pending_tracker_.mode));
 }
 
 void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

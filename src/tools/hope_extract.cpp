@@ -49,6 +49,10 @@ orientation of the sensor in the reference frame (z up); at most one, default: n
   --quaternion "qx qy qz qw"      rotation only (normalized; zero/NaN rejected)
   --rpy "roll pitch yaw"          radians, fixed axes x, y, z (R = Rz Ry Rx)
   --gravity "gx gy gz"            accelerometer at rest in the sensor frame (points UP)
+  --viewpoint "x y z"             where the sensor was, in the reference frame (default: the
+                         pose's translation; the origin for a rotation or a depth image;
+                         unknown for a cloud without orientation). The fragment merge uses it
+                         to tell shadows from gaps; each plane's facing (up/down) needs it
 
 sequences
   --sequence DIR         a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of
@@ -70,6 +74,9 @@ parameters
                          atan(r_z / r_xy) are rejected
   --min-height M, --max-height M  keep planes inside this height band
   --min-area M2          keep planes of at least this footprint
+  --no-merge             one plane per connected region, as in the paper (default: fragments
+                         of one surface cut apart by clutter or occlusion are merged)
+  --max-merge-gap M      widest gap the fragment merge bridges (default 1.0 m)
   --max-points N         refuse files claiming more points (default 100000000), so a
                          corrupt header cannot make hope allocate gigabytes
 
@@ -85,6 +92,7 @@ leaves no partial file)
 struct Options {
   std::map<std::string, std::string> values;
   bool quiet = false;
+  bool no_merge = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -96,7 +104,7 @@ Options parse(int argc, char** argv) {
                                   "--labels",      "--overlay",       "--sequence",
                                   "--groundtruth", "--accelerometer", "--max-time-difference",
                                   "--tracking",    "--jsonl",         "--overlay-dir",
-                                  "--max-points"};
+                                  "--max-points",  "--viewpoint",     "--max-merge-gap"};
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -106,6 +114,10 @@ Options parse(int argc, char** argv) {
     }
     if (arg == "--quiet") {
       options.quiet = true;
+      continue;
+    }
+    if (arg == "--no-merge") {
+      options.no_merge = true;
       continue;
     }
     bool known = false;
@@ -131,7 +143,7 @@ std::uint64_t maxPoints(const Options& o) {
   return static_cast<std::uint64_t>(value);
 }
 
-hope::Orientation orientation(const Options& o) {
+hope::Orientation rotationOrPose(const Options& o) {
   using hope::tools::parseNumbers;
   int given = 0;
   for (const char* key : {"--pose", "--quaternion", "--rpy", "--gravity"}) {
@@ -159,6 +171,20 @@ hope::Orientation orientation(const Options& o) {
   return hope::Orientation::identity();
 }
 
+// The orientation options, with --viewpoint applied. `sensor_frame_cloud`: the points are in
+// the sensor's own frame (a depth image), so the sensor is at the origin when nothing else says.
+hope::Orientation orientation(const Options& o, bool sensor_frame_cloud = false) {
+  hope::Orientation result = rotationOrPose(o);
+  if (o.values.count("--viewpoint")) {
+    const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
+    return result.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
+  }
+  if (sensor_frame_cloud && !result.viewpoint()) {
+    result = result.withViewpoint(Eigen::Vector3d::Zero());
+  }
+  return result;
+}
+
 hope::PinholeIntrinsics intrinsics(const Options& o) {
   hope::PinholeIntrinsics k = hope::PinholeIntrinsics::tumFreiburg1();
   if (o.values.count("--intrinsics")) {
@@ -175,6 +201,8 @@ hope::Params parameters(const Options& o) {
   params.min_height = number(o, "--min-height", params.min_height);
   params.max_height = number(o, "--max-height", params.max_height);
   params.min_area = number(o, "--min-area", params.min_area);
+  params.merge_fragments = !o.no_merge;
+  params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
   return params;
 }
 
@@ -346,7 +374,7 @@ int run(int argc, char** argv) {
   }
 
   hope::Extractor extractor(parameters(o));  // validates before any file is read
-  const hope::Orientation pose = orientation(o);
+  const hope::Orientation pose = orientation(o, has_depth);
   const std::uint64_t max_points = maxPoints(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const hope::PinholeIntrinsics k = intrinsics(o);

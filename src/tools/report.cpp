@@ -54,11 +54,12 @@ void printTable(std::ostream& out, const Result& result) {
       << result.input_points << " points, " << result.voxels << " voxels, " << result.candidates
       << " candidates, " << result.clusters << " clusters (" << result.rejected_by_refinement
       << " rejected by refinement, " << result.rejected_by_band_or_area
-      << " by height band / area)\n";
+      << " by height band / area, " << result.merged_fragments << " fragment(s) merged)\n";
   out << std::fixed << std::setprecision(2) << "time " << t.total_ms << " ms: alignment "
       << t.alignment_ms << ", grid " << t.grid_filter_ms << ", normals " << t.normals_ms
       << ", candidates " << t.candidates_ms << ", clustering " << t.clustering_ms << ", refinement "
-      << t.refinement_ms << ", description " << t.description_ms << "\n";
+      << t.refinement_ms << ", description " << t.description_ms << ", merging " << t.merging_ms
+      << "\n";
   out.unsetf(std::ios::floatfield);
 }
 
@@ -69,6 +70,7 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
       << ", \"centroid\": " << vec3(p.centroid) << ", \"normal\": " << vec3(p.normal)
       << ", \"tilt\": " << number(p.tilt) << ", \"area\": " << number(p.area)
       << ", \"num_points\": " << p.num_points << ", \"num_voxels\": " << p.num_voxels
+      << ", \"num_parts\": " << p.num_parts << ", \"facing\": \"" << toString(p.facing) << "\""
       << ", \"age\": " << p.age << ", \"last_seen\": " << number(p.last_seen, 17)
       << ", \"split_from\": " << p.split_from << ", \"hull\": [";
   for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
@@ -86,7 +88,8 @@ void writeJson(std::ostream& out, const Result& result) {
       << ", \"finite_points\": " << result.finite_points << ", \"voxels\": " << result.voxels
       << ", \"candidates\": " << result.candidates << ", \"clusters\": " << result.clusters
       << ", \"rejected_by_refinement\": " << result.rejected_by_refinement
-      << ", \"rejected_by_band_or_area\": " << result.rejected_by_band_or_area << "},\n"
+      << ", \"rejected_by_band_or_area\": " << result.rejected_by_band_or_area
+      << ", \"merged_fragments\": " << result.merged_fragments << "},\n"
       << "  \"warnings\": [";
   for (std::size_t w = 0; w < result.warnings.size(); ++w) {
     out << (w ? ", " : "") << "\"" << escape(result.warnings[w]) << "\"";
@@ -97,7 +100,8 @@ void writeJson(std::ostream& out, const Result& result) {
       << ", \"candidates\": " << number(t.candidates_ms)
       << ", \"clustering\": " << number(t.clustering_ms)
       << ", \"refinement\": " << number(t.refinement_ms)
-      << ", \"description\": " << number(t.description_ms) << ", \"total\": " << number(t.total_ms)
+      << ", \"description\": " << number(t.description_ms)
+      << ", \"merging\": " << number(t.merging_ms) << ", \"total\": " << number(t.total_ms)
       << "}\n}\n";
 }
 

@@ -2,7 +2,6 @@
 // by timestamp from ground truth or the accelerometer, ids kept across frames.
 #include <cmath>
 #include <map>
-#include <regex>
 #include <set>
 #include <vector>
 
@@ -27,12 +26,20 @@ struct JsonPlane {
 std::vector<std::vector<JsonPlane>> readJsonLines(const std::string& path) {
   std::vector<std::vector<JsonPlane>> frames;
   std::istringstream lines(slurp(path));
-  const std::regex plane(R"(\{"id": (-?\d+), "height": ([-0-9.e+]+)[^{]*"num_points": (\d+))");
+  // Plain scanning, not std::regex: libstdc++'s matcher recurses per character and overflows
+  // the stack on lines as long as a frame's outlines.
+  const std::string id_key = "{\"id\": ", height_key = "\"height\": ",
+                    points_key = "\"num_points\": ";
   for (std::string line; std::getline(lines, line);) {
     EXPECT_EQ(line.rfind("{\"stamp\": ", 0), 0u) << line.substr(0, 80);
     std::vector<JsonPlane> planes;
-    for (std::sregex_iterator it(line.begin(), line.end(), plane), end; it != end; ++it) {
-      planes.push_back({std::stoi((*it)[1]), std::stod((*it)[2]), std::stol((*it)[3])});
+    for (std::size_t at = line.find(id_key); at != std::string::npos;
+         at = line.find(id_key, at + 1)) {
+      const std::size_t height = line.find(height_key, at), points = line.find(points_key, at);
+      if (height == std::string::npos || points == std::string::npos) break;
+      planes.push_back({std::stoi(line.substr(at + id_key.size())),
+                        std::stod(line.substr(height + height_key.size())),
+                        std::stol(line.substr(points + points_key.size()))});
     }
     frames.push_back(planes);
   }

@@ -38,6 +38,10 @@ struct HorizontalPlane {
   Facing facing = Facing::kUnknown;
   // Convex hull of the plane's points in xy, counter-clockwise seen from above, at z = height.
   std::vector<Eigen::Vector3d> hull;
+  // The plane's true shape at z = height (plane_outline.h): the boundary of its occupied grid
+  // cells, one counter-clockwise ring around each part and one clockwise ring around each
+  // hole (where something stands on it), simplified. Encloses about `area`.
+  std::vector<std::vector<Eigen::Vector3d>> outline;
   // The two angles of the refinement test (Eq 10), for diagnostics.
   double mean_normal_tilt = 0.0;
   double group_angle = 0.0;
@@ -51,7 +55,7 @@ struct HorizontalPlane {
   // The id this plane split off in this frame, or -1.
   int split_from = -1;
 
-  // Moves the plane's position fields (height, bbox, centroid, hull) by `offset`.
+  // Moves the plane's position fields (height, bbox, centroid, hull, outline) by `offset`.
   void translate(const Eigen::Vector3d& offset) {
     height += offset.z();
     bbox[0] += offset.x();
@@ -60,6 +64,9 @@ struct HorizontalPlane {
     bbox[3] += offset.y();
     centroid += offset;
     for (Eigen::Vector3d& h : hull) h += offset;
+    for (auto& ring : outline) {
+      for (Eigen::Vector3d& q : ring) q += offset;
+    }
   }
 };
 

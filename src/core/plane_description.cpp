@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "hope/plane_outline.h"
+
 namespace hope {
 
 namespace {
@@ -137,6 +139,18 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   if (detail == Detail::kVoxels) return plane;
   for (const Eigen::Vector2d& h : convexHull2D(std::move(hull_candidates))) {
     plane.hull.emplace_back(h.x(), h.y(), plane.height);
+  }
+  std::vector<std::pair<std::int64_t, std::int64_t>> cells;
+  cells.reserve(members.size());
+  for (std::uint32_t v : members) cells.emplace_back(grid.cellX(v), grid.cellY(v));
+  // Within three quarters of a cell: a staircase along a diagonal edge becomes one line.
+  const auto rings =
+      traceOutline(std::move(cells), Eigen::Vector2d(grid.cellMinX(0), grid.cellMinY(0)),
+                   grid.rXY(), 0.75 * grid.rXY());
+  for (const auto& ring : rings) {
+    plane.outline.emplace_back();
+    for (const Eigen::Vector2d& q : ring)
+      plane.outline.back().emplace_back(q.x(), q.y(), plane.height);
   }
   return plane;
 }

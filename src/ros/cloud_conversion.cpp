@@ -1,5 +1,6 @@
 #include "cloud_conversion.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -32,6 +33,14 @@ geometry_msgs::Point point(const Eigen::Vector3d& p) {
   q.x = p.x();
   q.y = p.y();
   q.z = p.z();
+  return q;
+}
+
+geometry_msgs::Point32 point32(const Eigen::Vector3d& p) {
+  geometry_msgs::Point32 q;
+  q.x = static_cast<float>(p.x());
+  q.y = static_cast<float>(p.y());
+  q.z = static_cast<float>(p.z());
   return q;
 }
 
@@ -132,12 +141,10 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
     m.facing = p.facing == hope::Facing::kUp     ? hope::Plane::FACING_UP
                : p.facing == hope::Facing::kDown ? hope::Plane::FACING_DOWN
                                                  : hope::Plane::FACING_UNKNOWN;
-    for (const auto& h : p.hull) {
-      geometry_msgs::Point32 q;
-      q.x = static_cast<float>(h.x());
-      q.y = static_cast<float>(h.y());
-      q.z = static_cast<float>(h.z());
-      m.hull.points.push_back(q);
+    for (const auto& h : p.hull) m.hull.points.push_back(point32(h));
+    for (const auto& ring : p.outline) {
+      m.outline.emplace_back();
+      for (const auto& q : ring) m.outline.back().points.push_back(point32(q));
     }
     msg.planes.push_back(m);
   }
@@ -195,25 +202,50 @@ visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
     base.ns = "hope";
     base.action = visualization_msgs::Marker::ADD;
     base.pose.orientation.w = 1.0;
-    if (p.hull.size() >= 3) {
+    if (!p.outline.empty()) {
+      // The occupied area, filled: horizontal strips between the outline's crossings (even-odd
+      // over all rings, so holes stay open), two triangles each.
       visualization_msgs::Marker fill = base;
       fill.id = 3 * p.id;
       fill.type = visualization_msgs::Marker::TRIANGLE_LIST;
       fill.scale.x = fill.scale.y = fill.scale.z = 1.0;
       fill.color = colorOf(p.id, 0.5f);
-      for (std::size_t k = 1; k + 1 < p.hull.size(); ++k) {  // a fan over the convex hull
-        fill.points.push_back(point(p.hull[0]));
-        fill.points.push_back(point(p.hull[k]));
-        fill.points.push_back(point(p.hull[k + 1]));
+      const double step = std::max((p.bbox[3] - p.bbox[1]) / 200.0, 0.005);
+      std::vector<double> crossings;
+      for (double y = p.bbox[1]; y < p.bbox[3]; y += step) {
+        const double mid = y + 0.5 * step;
+        crossings.clear();
+        for (const auto& ring : p.outline) {
+          for (std::size_t k = 0, prev = ring.size() - 1; k < ring.size(); prev = k++) {
+            const Eigen::Vector3d& a = ring[k];
+            const Eigen::Vector3d& b = ring[prev];
+            if ((a.y() > mid) != (b.y() > mid)) {
+              crossings.push_back(a.x() + (mid - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+            }
+          }
+        }
+        std::sort(crossings.begin(), crossings.end());
+        for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) {
+          const Eigen::Vector3d a(crossings[k], y, p.height), b(crossings[k + 1], y, p.height);
+          const Eigen::Vector3d up(0, step, 0);
+          for (const Eigen::Vector3d& q : {a, b, Eigen::Vector3d(b + up), a,
+                                           Eigen::Vector3d(b + up), Eigen::Vector3d(a + up)}) {
+            fill.points.push_back(point(q));
+          }
+        }
       }
       markers.markers.push_back(fill);
       visualization_msgs::Marker outline = base;
       outline.id = 3 * p.id + 1;
-      outline.type = visualization_msgs::Marker::LINE_STRIP;
+      outline.type = visualization_msgs::Marker::LINE_LIST;
       outline.scale.x = 0.01;
       outline.color = colorOf(p.id, 1.0f);
-      for (const auto& h : p.hull) outline.points.push_back(point(h));
-      outline.points.push_back(point(p.hull.front()));
+      for (const auto& ring : p.outline) {
+        for (std::size_t k = 0; k < ring.size(); ++k) {
+          outline.points.push_back(point(ring[k]));
+          outline.points.push_back(point(ring[(k + 1) % ring.size()]));
+        }
+      }
       markers.markers.push_back(outline);
     }
     visualization_msgs::Marker text = base;

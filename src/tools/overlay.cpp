@@ -133,10 +133,10 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
   // Plane fields are absolute; the aligned points are relative to the local origin.
   const Eigen::Vector3d& o = result.local_origin;
   for (const HorizontalPlane& plane : result.planes) {
-    std::vector<cv::Point> polygon;
-    for (const auto& v : plane.hull) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
-    if (polygon.size() >= 2) {
-      const cv::Vec3b c = planeColor(plane.id);
+    const cv::Vec3b c = planeColor(plane.id);
+    for (const auto& ring : plane.outline) {  // the true shape, holes included
+      std::vector<cv::Point> polygon;
+      for (const auto& v : ring) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
       cv::polylines(image, polygon, true, cv::Scalar(c[0], c[1], c[2]), 2, cv::LINE_AA);
     }
     drawLabel(image, planeText(plane),

@@ -74,6 +74,14 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
       << ", \"age\": " << p.age << ", \"last_seen\": " << number(p.last_seen, 17)
       << ", \"split_from\": " << p.split_from << ", \"hull\": [";
   for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
+  out << "], \"outline\": [";
+  for (std::size_t r = 0; r < p.outline.size(); ++r) {
+    out << (r ? ", " : "") << "[";
+    for (std::size_t k = 0; k < p.outline[r].size(); ++k) {
+      out << (k ? ", " : "") << vec3(p.outline[r][k]);
+    }
+    out << "]";
+  }
   out << "]}";
 }
 

@@ -23,7 +23,7 @@ cv::Vec3b planeColor(int id);
 
 // For an organized cloud: the image (its colour, or a grey depth rendering) with every plane's
 // pixels tinted by its id and "id: height" written on it. For an unorganized cloud: a top-down
-// view of the aligned points, planes tinted, hulls outlined and labelled.
+// view of the aligned points, planes tinted, outlines drawn and labelled.
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
                       const std::vector<Eigen::Vector3f>& aligned, const Result& result);
 

@@ -2,6 +2,8 @@
 // optimal assignment and the identity scores.
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <random>
 #include <set>
 
@@ -323,6 +325,85 @@ TEST(IdentityScorer, CountsAccuracySwitchesAndFragmentations) {
   EXPECT_EQ(s.duplicate_ids, 0u);
   scorer.addFrame({3, 3}, {0, 1}, {1, 1}, both);
   EXPECT_EQ(scorer.scores().duplicate_ids, 1u);
+}
+
+TEST(IdentityF1, PairsIdsWithSurfacesOnceAndWeighsByArea) {
+  // Two frames; the floor (surface 0, 4 m²) and a table (1, 1 m²) in view in both.
+  const std::map<int, double> areas = {{0, 4.0}, {1, 1.0}};
+  evaluation::IdentityF1 steady;
+  steady.addFrame({7, 8}, {0, 1}, {4.0, 1.0}, areas);
+  steady.addFrame({7, 8}, {0, 1}, {4.0, 1.0}, areas);
+  EXPECT_DOUBLE_EQ(steady.score(), 1.0);
+
+  // The floor in two halves under two ids, the second frame under a third id: the best id
+  // holds 2 of the floor's 8 m² (ids pair with one surface each for the whole sequence).
+  evaluation::IdentityF1 split;
+  split.addFrame({1, 2, 8}, {0, 0, 1}, {2.0, 2.0, 1.0}, areas);
+  split.addFrame({3, 4, 8}, {0, 0, 1}, {2.0, 2.0, 1.0}, areas);
+  // IDTP = 2 (floor, one id) + 2 (table): 2·4 / (10 + 10).
+  EXPECT_DOUBLE_EQ(split.score(), 2.0 * 4.0 / 20.0);
+
+  // A noise plane counts against precision only; a missed surface against recall only.
+  evaluation::IdentityF1 noisy;
+  noisy.addFrame({7, 9}, {0, -1}, {4.0, 1.0}, areas);  // the table missed, a noise plane
+  EXPECT_DOUBLE_EQ(noisy.score(), 2.0 * 4.0 / (5.0 + 5.0));
+}
+
+TEST(IdentityF1, TrueAreasCountOccupiedCellsPerLabel) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<Eigen::Vector3f> points = {
+      {0.01f, 0.01f, 0}, {0.02f, 0.03f, 0}, {0.07f, 0.01f, 0}, {0.5f, 0.5f, 1}, {nan, nan, nan}};
+  const auto areas = evaluation::trueAreas(points, {0, 0, 0, 1, 1}, 0.05);
+  ASSERT_EQ(areas.size(), 2u);
+  EXPECT_NEAR(areas.at(0), 2 * 0.0025, 1e-12);  // two cells
+  EXPECT_NEAR(areas.at(1), 0.0025, 1e-12);      // the NaN point is not counted
+}
+
+// With the fragment merge, the floor and the table keep one id each while a pillar passes in
+// front of them and the camera moves (without it, the pillar's shadow splits the floor and
+// each part gets its own id).
+TEST(Tracking, FloorAndTableKeepOneIdThroughAnOcclusionWhenFragmentsMerge) {
+  const synthetic::TrackingScene scene;
+  for (const std::string name : {"occlusion", "pan"}) {
+    const auto sequence = synthetic::makeTrackingSequence(name, 45, 320);
+    Extractor extractor;  // merge on by default
+    PlaneTracker tracker;
+    std::set<int> floor_ids, table_ids;
+    for (std::size_t f = 0; f < sequence.frames.size(); ++f) {
+      const auto& frame = sequence.frames[f];
+      synthetic::SensorNoise noise;
+      noise.seed = static_cast<std::uint32_t>(f + 1);
+      const auto rendered = scene.render(frame.camera, frame.occluder_xy, noise);
+      const Result result =
+          extractor.extract(depthToCloud(rendered.depth, frame.camera.intrinsics, 1.0),
+                            Orientation::fromTransform(frame.camera.pose));
+      const std::vector<int> truth = evaluation::groundTruthOfPlanes(
+          result, std::vector<int>(rendered.labels.begin<std::int32_t>(),
+                                   rendered.labels.end<std::int32_t>()));
+      std::vector<HorizontalPlane> planes = result.planes;
+      tracker.update(planes, frame.stamp);
+      // The largest plane on each surface carries its id; on the floor it holds nearly all
+      // of the floor's extracted points.
+      int floor = -1, table = -1;
+      std::size_t floor_points = 0;
+      for (std::size_t k = 0; k < planes.size(); ++k) {
+        if (truth[k] == 0) floor_points += planes[k].num_points;
+        if (truth[k] == 0 && (floor < 0 || planes[k].num_points > planes[floor].num_points)) {
+          floor = static_cast<int>(k);
+        }
+        if (truth[k] == 1 && (table < 0 || planes[k].num_points > planes[table].num_points)) {
+          table = static_cast<int>(k);
+        }
+      }
+      ASSERT_GE(floor, 0) << name << " frame " << f << ": the floor is in every frame";
+      EXPECT_GE(planes[floor].num_points, 0.95 * floor_points)
+          << name << " frame " << f << ": the floor is one plane; " << test::describe(result);
+      floor_ids.insert(planes[floor].id);
+      if (table >= 0) table_ids.insert(planes[table].id);
+    }
+    EXPECT_EQ(floor_ids.size(), 1u) << name;
+    EXPECT_EQ(table_ids.size(), 1u) << name;
+  }
 }
 
 // Renders the tracking scene from two camera poses and returns the planes of each, with the

@@ -47,12 +47,22 @@ class VoxelGrid {
   const std::vector<std::int32_t>& pointVoxel() const { return point_voxel_; }
 
   // The voxels of grid column (cx, cy) as a half-open index range; empty outside the grid.
-  std::pair<std::uint32_t, std::uint32_t> columnVoxels(std::int64_t cx, std::int64_t cy) const;
+  // Inline: every stage after the grid asks it for each voxel's neighbours.
+  std::pair<std::uint32_t, std::uint32_t> columnVoxels(std::int64_t cx, std::int64_t cy) const {
+    if (cx < 0 || cy < 0 || static_cast<std::uint64_t>(cx) >= nx_ ||
+        static_cast<std::uint64_t>(cy) >= ny_) {
+      return {0, 0};
+    }
+    const std::uint64_t c = static_cast<std::uint64_t>(cx) + nx_ * static_cast<std::uint64_t>(cy);
+    if (!dense_column_begin_.empty()) return {dense_column_begin_[c], dense_column_begin_[c + 1]};
+    return sparseColumnVoxels(c);
+  }
   // The xy rectangle covered by column (cx, cy).
   double cellMinX(std::int64_t cx) const { return origin_.x() + cx * r_xy_; }
   double cellMinY(std::int64_t cy) const { return origin_.y() + cy * r_xy_; }
 
  private:
+  std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
   void sortByCounting(std::size_t num_columns, std::size_t nz);
   void sortByComparison();
   void collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool dense_columns);

@@ -186,14 +186,7 @@ void VoxelGrid::collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool 
   }
 }
 
-std::pair<std::uint32_t, std::uint32_t> VoxelGrid::columnVoxels(std::int64_t cx,
-                                                                std::int64_t cy) const {
-  if (cx < 0 || cy < 0 || static_cast<std::uint64_t>(cx) >= nx_ ||
-      static_cast<std::uint64_t>(cy) >= ny_) {
-    return {0, 0};
-  }
-  const std::uint64_t c = static_cast<std::uint64_t>(cx) + nx_ * static_cast<std::uint64_t>(cy);
-  if (!dense_column_begin_.empty()) return {dense_column_begin_[c], dense_column_begin_[c + 1]};
+std::pair<std::uint32_t, std::uint32_t> VoxelGrid::sparseColumnVoxels(std::uint64_t c) const {
   const auto it = sparse_columns_.find(c);
   return it == sparse_columns_.end() ? std::pair<std::uint32_t, std::uint32_t>{0, 0} : it->second;
 }

@@ -1,6 +1,10 @@
 #include "hope/evaluation/tracking_metrics.h"
 
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
+
+#include "hope/optimal_assignment.h"
 
 namespace hope {
 namespace evaluation {
@@ -101,6 +105,64 @@ void IdentityScorer::addFrame(const std::vector<int>& ids, const std::vector<int
     previous_surfaces_.insert(truth[k]);
   }
   first_ = false;
+}
+
+void IdentityF1::addFrame(const std::vector<int>& ids, const std::vector<int>& truth,
+                          const std::vector<double>& areas,
+                          const std::map<int, double>& true_areas) {
+  if (truth.size() != ids.size() || areas.size() != ids.size()) {
+    throw std::invalid_argument("IdentityF1::addFrame: one truth and one area per plane needed");
+  }
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    predicted_ += areas[k];
+    if (truth[k] < 0) continue;
+    // A plane is scored on the surface most of its points lie on, at most that surface's area.
+    const auto surface = true_areas.find(truth[k]);
+    const double area = surface == true_areas.end() ? 0.0 : std::min(areas[k], surface->second);
+    overlap_[{ids[k], truth[k]}] += area;
+  }
+  for (const auto& [surface, area] : true_areas) true_ += area;
+}
+
+double IdentityF1::score() const {
+  if (predicted_ + true_ <= 0) return 1.0;
+  std::map<int, int> row_of_id, col_of_surface;
+  for (const auto& [pair, area] : overlap_) {
+    row_of_id.emplace(pair.first, static_cast<int>(row_of_id.size()));
+    col_of_surface.emplace(pair.second, static_cast<int>(col_of_surface.size()));
+  }
+  if (overlap_.empty()) return 0.0;
+  // The one-to-one pairing of ids and surfaces with the most shared area: a minimum-cost
+  // assignment on the negated areas.
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(row_of_id.size()),
+                                               static_cast<Eigen::Index>(col_of_surface.size()));
+  for (const auto& [pair, area] : overlap_) {
+    cost(row_of_id.at(pair.first), col_of_surface.at(pair.second)) = -area;
+  }
+  const std::vector<int> col_of_row = solveAssignment(cost);
+  double true_positive = 0;
+  for (std::size_t r = 0; r < col_of_row.size(); ++r) {
+    if (col_of_row[r] >= 0) true_positive -= cost(static_cast<Eigen::Index>(r), col_of_row[r]);
+  }
+  return 2.0 * true_positive / (predicted_ + true_);
+}
+
+std::map<int, double> trueAreas(const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<int>& labels, double cell) {
+  if (points.size() != labels.size()) {
+    throw std::invalid_argument("trueAreas: one label per point needed");
+  }
+  std::map<int, std::set<std::pair<std::int64_t, std::int64_t>>> cells;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (labels[i] < 0 || !points[i].allFinite()) continue;
+    cells[labels[i]].emplace(static_cast<std::int64_t>(std::floor(points[i].x() / cell)),
+                             static_cast<std::int64_t>(std::floor(points[i].y() / cell)));
+  }
+  std::map<int, double> areas;
+  for (const auto& [label, occupied] : cells) {
+    areas[label] = static_cast<double>(occupied.size()) * cell * cell;
+  }
+  return areas;
 }
 
 }  // namespace evaluation

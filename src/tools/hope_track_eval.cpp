@@ -2,6 +2,7 @@
 // synthetic sequences whose surfaces are known (docs/tracking.md is made by this tool).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -34,7 +35,8 @@ Defaults: 90 frames, 640 px wide, the extractor's default r_xy and r_z.
 )";
 
 // The head of docs/tracking.md: what is measured and how.
-const char* kPreamble = R"(# Plane identities across frames: paper mode vs improved mode
+const char* kPreamble =
+    R"(# Plane identities across frames: paper mode, improved mode, and with fragments merged
 
 Made by `bash scripts/evaluate_tracking.sh` (`hope_track_eval --markdown docs/tracking.md`);
 every figure below comes from that run. Do not edit by hand.
@@ -60,7 +62,13 @@ and no id of its surface was left unused — a surface split into parts counts e
 when last seen, however long ago; a re-numbering after an occlusion or after leaving the
 view counts. *Fragmentations*: times a surface in view lost its plane and got one back later
 (extraction gaps; the same for both modes). *Duplicate ids*: one id on two planes in a frame.
-*Tracking µs/frame*: the tracker alone.
+*IDF1* (identity F1, Ristani et al. 2016): ids and true surfaces paired one-to-one for the
+whole sequence (the pairing sharing the most area), then 2 · shared area / (area of every
+extracted plane + area of every surface in view), over all frames: counted per observation
+and weighted by area (grid cells of r_xy), so a floor carried by four ids scores by the share
+its best id holds. *Floor ids*, *table ids*: distinct ids given to planes on the floor and on
+the table top during the sequence (1 is what a robot wants). *Tracking µs/frame*: the
+tracker alone.
 
 **Modes.** `paper`: NNPM of §2.5 (Eq 11–14 joint normalization, nearest neighbour with
 cv::flann, the closest of competing planes keeps the id, no memory). `improved` (default):
@@ -70,7 +78,9 @@ assignment (Hungarian) per group of competing planes with a cost for leaving a p
 unpaired, the scene's apparent motion (a turn about the origin and a shift) estimated from a
 first pass and removed (kept only when
 it explains the frame better), lost planes remembered for 30 frames and moved with the
-scene, merges and splits reported.
+scene, merges and splits reported. `improved + merge` (the default of the extractor and the
+nodelet): the improved tracker on planes whose fragments were merged into one surface
+(docs/evaluation.md §5); the other two rows are the paper's one-plane-per-connected-region.
 
 )";
 
@@ -78,12 +88,18 @@ struct FramePlanes {
   std::vector<hope::HorizontalPlane> planes;
   std::vector<int> truth;
   std::vector<std::size_t> sizes;
+  std::vector<double> areas;
   std::set<int> visible;
+  std::map<int, double> true_areas;  // m² of each surface in view
 };
 
 struct Row {
   std::string sequence, orientation, mode;
   hope::evaluation::IdentityScores scores;
+  double idf1 = 0;
+  // Distinct ids given to planes on the floor (surface 0) and the table top (1) over the
+  // sequence: 1 is a robot's ideal.
+  std::size_t floor_ids = 0, table_ids = 0;
   double track_us_per_frame = 0;
   double planes_per_frame = 0;
 };
@@ -110,6 +126,8 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
   options.mode = mode;
   hope::PlaneTracker tracker(options);
   hope::evaluation::IdentityScorer scorer;
+  hope::evaluation::IdentityF1 idf1;
+  std::set<int> floor_ids, table_ids;
   double seconds = 0;
   std::size_t planes = 0;
   for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -120,11 +138,19 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
     std::vector<int> ids;
     for (const auto& p : planes_now) ids.push_back(p.id);
     scorer.addFrame(ids, frames[f].truth, frames[f].sizes, frames[f].visible);
+    idf1.addFrame(ids, frames[f].truth, frames[f].areas, frames[f].true_areas);
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      if (frames[f].truth[k] == 0) floor_ids.insert(ids[k]);
+      if (frames[f].truth[k] == 1) table_ids.insert(ids[k]);
+    }
     planes += planes_now.size();
   }
   Row row;
   row.mode = hope::toString(mode);
   row.scores = scorer.scores();
+  row.idf1 = idf1.score();
+  row.floor_ids = floor_ids.size();
+  row.table_ids = table_ids.size();
   row.track_us_per_frame = 1e6 * seconds / frames.size();
   row.planes_per_frame = double(planes) / frames.size();
   return row;
@@ -162,14 +188,18 @@ int run(int argc, char** argv) {
       throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
     }
   }
-  hope::Extractor extractor(params);
+  // The paper's pipeline (one plane per connected region) and the default (fragments merged).
+  hope::Params paper_params = params;
+  paper_params.merge_fragments = false;
+  hope::Extractor merging(params), paper_extractor(paper_params);
   const hope::synthetic::TrackingScene scene;
   std::vector<Row> rows;
   std::map<std::string, std::string> descriptions;
   for (const std::string& name : names) {
     const auto sequence = hope::synthetic::makeTrackingSequence(name, frames, width);
     descriptions[name] = sequence.description;
-    std::vector<FramePlanes> by_pose, by_gravity;
+    // [source][merge]: source 0 pose, 1 gravity; merge 0 off (the paper), 1 on.
+    std::vector<FramePlanes> extracted[2][2];
     std::vector<double> stamps;
     for (std::size_t f = 0; f < sequence.frames.size(); ++f) {
       const auto& frame = sequence.frames[f];
@@ -185,21 +215,42 @@ int run(int argc, char** argv) {
         const hope::Orientation orientation =
             source == 0 ? hope::Orientation::fromTransform(frame.camera.pose)
                         : gravityOnly(frame.camera.pose);
-        const hope::Result result = extractor.extract(cloud, orientation);
-        FramePlanes fp;
-        fp.planes = result.planes;
-        fp.truth = hope::evaluation::groundTruthOfPlanes(result, point_truth);
-        for (const auto& p : result.planes) fp.sizes.push_back(p.num_points);
-        fp.visible = visible;
-        (source == 0 ? by_pose : by_gravity).push_back(std::move(fp));
+        for (int merge = 0; merge < 2; ++merge) {
+          hope::Extractor& extractor = merge ? merging : paper_extractor;
+          const hope::Result result = extractor.extract(cloud, orientation);
+          FramePlanes fp;
+          fp.planes = result.planes;
+          fp.truth = hope::evaluation::groundTruthOfPlanes(result, point_truth);
+          for (const auto& p : result.planes) {
+            fp.sizes.push_back(p.num_points);
+            fp.areas.push_back(p.area);
+          }
+          fp.visible = visible;
+          fp.true_areas =
+              hope::evaluation::trueAreas(extractor.alignedPoints(), point_truth, params.r_xy);
+          for (auto it = fp.true_areas.begin(); it != fp.true_areas.end();) {
+            it = visible.count(it->first) ? std::next(it) : fp.true_areas.erase(it);
+          }
+          extracted[source][merge].push_back(std::move(fp));
+        }
       }
       if (isatty(2))
         std::fprintf(stderr, "\r%s: frame %zu/%zu", name.c_str(), f + 1, sequence.frames.size());
     }
     if (isatty(2)) std::fprintf(stderr, "\n");
     for (int source = 0; source < 2; ++source) {
-      for (auto mode : {hope::TrackingMode::kPaper, hope::TrackingMode::kImproved}) {
-        Row row = score(source == 0 ? by_pose : by_gravity, stamps, mode);
+      // The paper's tracker on the paper's planes; the improved tracker without and with the
+      // fragment merge.
+      const struct {
+        int merge;
+        hope::TrackingMode mode;
+        const char* name;
+      } variants[] = {{0, hope::TrackingMode::kPaper, "paper"},
+                      {0, hope::TrackingMode::kImproved, "improved, no merge"},
+                      {1, hope::TrackingMode::kImproved, "improved + merge"}};
+      for (const auto& variant : variants) {
+        Row row = score(extracted[source][variant.merge], stamps, variant.mode);
+        row.mode = variant.name;
         row.sequence = name;
         row.orientation = source == 0 ? "pose" : "gravity";
         rows.push_back(row);
@@ -208,31 +259,44 @@ int run(int argc, char** argv) {
   }
 
   std::ostringstream table;
-  table << "| sequence | orientation | mode | planes/frame | accuracy (paper's) | id switches | "
-           "fragmentations | duplicate ids | tracking µs/frame |\n"
-        << "|---|---|---|---:|---:|---:|---:|---:|---:|\n";
-  std::map<std::string, hope::evaluation::IdentityScores> totals;
-  char line[300];
+  table << "| sequence | orientation | mode | planes/frame | accuracy (paper's) | IDF1 | "
+           "floor ids | table ids | id switches | fragmentations | duplicate ids | "
+           "tracking µs/frame |\n"
+        << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  struct Total {
+    hope::evaluation::IdentityScores scores;
+    double idf1_sum = 0;
+    std::size_t rows = 0, floor_ids = 0, table_ids = 0;
+  };
+  std::map<std::string, Total> totals;
+  char line[400];
   for (const Row& r : rows) {
     std::snprintf(line, sizeof(line),
-                  "| %s | %s | %s | %.1f | %.1f %% | %zu | %zu | %zu | %.1f |\n",
+                  "| %s | %s | %s | %.1f | %.1f %% | %.3f | %zu | %zu | %zu | %zu | %zu | %.1f |\n",
                   r.sequence.c_str(), r.orientation.c_str(), r.mode.c_str(), r.planes_per_frame,
-                  100.0 * r.scores.accuracy(), r.scores.id_switches, r.scores.fragmentations,
-                  r.scores.duplicate_ids, r.track_us_per_frame);
+                  100.0 * r.scores.accuracy(), r.idf1, r.floor_ids, r.table_ids,
+                  r.scores.id_switches, r.scores.fragmentations, r.scores.duplicate_ids,
+                  r.track_us_per_frame);
     table << line;
-    auto& t = totals[r.orientation + " / " + r.mode];
-    t.pairs_checked += r.scores.pairs_checked;
-    t.pairs_correct += r.scores.pairs_correct;
-    t.id_switches += r.scores.id_switches;
-    t.fragmentations += r.scores.fragmentations;
-    t.duplicate_ids += r.scores.duplicate_ids;
+    Total& t = totals[r.orientation + " / " + r.mode];
+    t.scores.pairs_checked += r.scores.pairs_checked;
+    t.scores.pairs_correct += r.scores.pairs_correct;
+    t.scores.id_switches += r.scores.id_switches;
+    t.scores.fragmentations += r.scores.fragmentations;
+    t.idf1_sum += r.idf1;
+    t.floor_ids += r.floor_ids;
+    t.table_ids += r.table_ids;
+    ++t.rows;
   }
-  table << "\n| all sequences | accuracy (paper's) | id switches | fragmentations |\n"
-        << "|---|---:|---:|---:|\n";
+  table << "\n| all sequences | accuracy (paper's) | mean IDF1 | floor ids | table ids | id "
+           "switches | fragmentations |\n"
+        << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& [key, t] : totals) {
-    std::snprintf(line, sizeof(line), "| %s | %.2f %% (%zu of %zu) | %zu | %zu |\n", key.c_str(),
-                  100.0 * t.accuracy(), t.pairs_correct, t.pairs_checked, t.id_switches,
-                  t.fragmentations);
+    std::snprintf(line, sizeof(line),
+                  "| %s | %.2f %% (%zu of %zu) | %.3f | %zu | %zu | %zu | %zu |\n", key.c_str(),
+                  100.0 * t.scores.accuracy(), t.scores.pairs_correct, t.scores.pairs_checked,
+                  t.idf1_sum / std::max<std::size_t>(t.rows, 1), t.floor_ids, t.table_ids,
+                  t.scores.id_switches, t.scores.fragmentations);
     table << line;
   }
   std::cout << table.str();

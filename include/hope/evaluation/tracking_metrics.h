@@ -4,7 +4,10 @@
 #include <cstddef>
 #include <map>
 #include <set>
+#include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "hope/extractor.h"
 
@@ -55,6 +58,30 @@ class IdentityScorer {
   std::set<int> interrupted_;  // surfaces in view that lost their plane
   bool first_ = true;
 };
+
+// IDF1 (identity F1, Ristani et al. 2016): how much of what was observed carries the right
+// identity, with ids and true surfaces paired one-to-one for the whole sequence (the pairing
+// that maximizes the identity true positives). Counted per observation and weighted by area,
+// so a floor split into four ids scores by the share its best id holds, and a robot's large
+// surfaces weigh more than a book.
+class IdentityF1 {
+ public:
+  // One frame: per extracted plane its id, true surface (-1: none, a noise plane) and area;
+  // per true surface in view its area.
+  void addFrame(const std::vector<int>& ids, const std::vector<int>& truth,
+                const std::vector<double>& areas, const std::map<int, double>& true_areas);
+  // 2 · IDTP / (area of every extracted plane + area of every true surface), over all frames.
+  double score() const;
+
+ private:
+  std::map<std::pair<int, int>, double> overlap_;  // (id, surface) → area, summed over frames
+  double predicted_ = 0, true_ = 0;
+};
+
+// The area (m², cells of `cell` metres in xy) of the points of each label >= 0: a surface's
+// true footprint in the frame `points` are in (NaN points are skipped).
+std::map<int, double> trueAreas(const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<int>& labels, double cell);
 
 }  // namespace evaluation
 }  // namespace hope

@@ -39,7 +39,8 @@ struct Fragment {
   const std::vector<std::uint32_t>* voxels;  // its cluster
   // Passed the refinement (§2.4). A rejected cluster — typically a sliver of a table cut off
   // by an object, too small for its edge normals to look flat — may join an accepted surface
-  // when all its voxels lie on that surface's plane, but never stands alone.
+  // when its voxels lie on that surface's plane (all within r_z, 80 % within r_z / 2), but
+  // never stands alone.
   bool accepted = true;
 };
 

@@ -1,5 +1,7 @@
 #include "hope/fragment_merging.h"
 
+#include "hope/plane_description.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,10 +30,12 @@ class DisjointSets {
   std::vector<std::size_t> parent_;
 };
 
-// Height of the fitted plane of `plane` above (x, y).
+// Height of the fitted plane of `plane` above (x, y). Planes reaching here are near
+// horizontal; a degenerate normal counts as level rather than divide by zero.
 double heightAt(const HorizontalPlane& plane, double x, double y) {
   const Eigen::Vector3d& n = plane.normal;
   const Eigen::Vector3d& c = plane.centroid;
+  if (!(n.z() > 1e-3)) return c.z();
   return c.z() - (n.x() * (x - c.x()) + n.y() * (y - c.y())) / n.z();
 }
 
@@ -43,13 +47,15 @@ double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
 }
 
 // Heights within r_z, normals within the accepted slope, boxes near enough to bridge. A
-// rejected fragment must moreover lie on the accepted one's plane, every voxel of it.
+// rejected fragment must moreover lie on the accepted one's plane: all its voxels within r_z
+// of it, and 80 % within r_z / 2.
 bool compatible(const VoxelGrid& grid, const Fragment& a, const Fragment& b, const Params& params) {
   if (!a.accepted && !b.accepted) return false;
   if (boxGap(a.plane.bbox, b.plane.bbox) > params.max_merge_gap) return false;  // cheap first
-  // The plane with the larger footprint is the better estimate of the surface (point counts
-  // favour whatever is nearest the sensor).
-  const Fragment& larger = a.plane.area >= b.plane.area ? a : b;
+  // The accepted plane with the larger footprint is the better estimate of the surface (point
+  // counts favour whatever is nearest the sensor; a rejected fit may be anything).
+  const Fragment& larger =
+      a.accepted != b.accepted ? (a.accepted ? a : b) : (a.plane.area >= b.plane.area ? a : b);
   const Fragment& smaller = &larger == &a ? b : a;
   const double step =
       heightAt(larger.plane, smaller.plane.centroid.x(), smaller.plane.centroid.y()) -
@@ -77,33 +83,6 @@ enum : std::int32_t {
   kPassable = -2,  // the surface, something on or in front of it, or its shadow
   kGap = -3,       // the sensor saw through the surface's height here
 };
-
-// Convex hull of a shadow's 8 corners without touching the heap (the raster casts one shadow
-// per occupied column). Sorts `points`; returns the hull's size.
-std::size_t shadowHull(std::array<Eigen::Vector2d, 8>& points,
-                       std::array<Eigen::Vector2d, 8>& hull) {
-  constexpr std::size_t n = 8;
-  std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  // Andrew's monotone chain: lower chain, then upper chain.
-  std::array<Eigen::Vector2d, 17> chain;
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross(chain[k - 2], chain[k - 1], points[i]) <= 0) --k;
-    chain[k++] = points[i];
-  }
-  for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(chain[k - 2], chain[k - 1], points[i]) <= 0) --k;
-    chain[k++] = points[i];
-  }
-  const std::size_t size = std::min<std::size_t>(k - 1, hull.size());
-  std::copy(chain.begin(), chain.begin() + size, hull.begin());
-  return size;
-}
 
 // A raster over the xy box of one group of compatible planes.
 class SurfaceRaster {
@@ -232,8 +211,8 @@ void observeScene(const VoxelGrid& grid, const HorizontalPlane& reference,
       hi = hi.cwiseMax(q);
     }
     if (!raster.overlaps(lo, hi)) return;  // most shadows fall beside a small surface
-    std::array<Eigen::Vector2d, 8> hull;
-    raster.markConvex(hull.data(), shadowHull(corners, hull));
+    std::array<Eigen::Vector2d, 17> hull;  // room for 2 · 8 + 1, no allocation per column
+    raster.markConvex(hull.data(), convexHullInPlace(corners.data(), corners.size(), hull.data()));
     raster.mark(x0 + 0.5 * r_xy, y0 + 0.5 * r_xy, kPassable);  // when cells exceed columns
   };
 

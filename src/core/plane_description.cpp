@@ -29,24 +29,31 @@ const char* toString(Facing facing) {
   return "unknown";
 }
 
-std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
+std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull) {
   auto less = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   };
-  std::sort(points.begin(), points.end(), less);
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return points;
-  std::vector<Eigen::Vector2d> hull(2 * points.size());
-  std::size_t k = 0;
-  for (const auto& p : points) {  // lower chain
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
-    hull[k++] = p;
+  std::sort(points, points + n, less);
+  n = static_cast<std::size_t>(std::unique(points, points + n) - points);
+  if (n < 3) {
+    std::copy(points, points + n, hull);
+    return n;
   }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper chain
     while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
     hull[k++] = points[i];
   }
-  hull.resize(k - 1);  // the last point repeats the first
+  return k - 1;  // the last point repeats the first
+}
+
+std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
+  std::vector<Eigen::Vector2d> hull(2 * points.size() + 1);
+  hull.resize(convexHullInPlace(points.data(), points.size(), hull.data()));
   return hull;
 }
 

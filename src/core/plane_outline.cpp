@@ -69,11 +69,13 @@ std::vector<Eigen::Vector2d> simplifyRing(const std::vector<Eigen::Vector2d>& ri
   return out.size() >= 3 ? out : ring;
 }
 
-double signedArea(const std::vector<Eigen::Vector2d>& ring) {
+// The shoelace formula: positive for a counter-clockwise ring.
+template <class Point>
+double signedArea(const std::vector<Point>& ring) {
   double twice = 0;
   for (std::size_t k = 0; k < ring.size(); ++k) {
-    const Eigen::Vector2d& a = ring[k];
-    const Eigen::Vector2d& b = ring[(k + 1) % ring.size()];
+    const Point& a = ring[k];
+    const Point& b = ring[(k + 1) % ring.size()];
     twice += a.x() * b.y() - b.x() * a.y();
   }
   return 0.5 * twice;
@@ -189,15 +191,7 @@ std::vector<std::vector<Eigen::Vector2d>> traceOutline(
   return rings;
 }
 
-double ringArea(const std::vector<Eigen::Vector3d>& ring) {
-  double twice = 0;
-  for (std::size_t k = 0; k < ring.size(); ++k) {
-    const Eigen::Vector3d& a = ring[k];
-    const Eigen::Vector3d& b = ring[(k + 1) % ring.size()];
-    twice += a.x() * b.y() - b.x() * a.y();
-  }
-  return 0.5 * twice;
-}
+double ringArea(const std::vector<Eigen::Vector3d>& ring) { return signedArea(ring); }
 
 double outlineArea(const HorizontalPlane& plane) {
   double area = 0;

@@ -177,6 +177,21 @@ TEST(FragmentMerging, WithoutAViewpointOnlyWhatStandsOnTheSurfaceBridgesIt) {
   EXPECT_EQ(one.planes[planeNear(one, 0.75, 0.01)].facing, Facing::kUnknown);
 }
 
+TEST(FragmentMerging, ALedgeOnAWallDoesNotGrowAlongTheWall) {
+  // A wall 3 m wide and 2 m high with a ledge 0.4 m wide, 0.2 m deep at 1.2 m: completion
+  // must not extend the ledge sideways along the wall, whose voxels at 1.2 m lie on its plane.
+  LabeledCloud cloud;
+  synthetic::Rectangle wall(V3(0, 0, 1.0), V3::UnitX(), V3::UnitZ(), 1.5, 1.0, -1);
+  synthetic::sampleRectangle(wall, 0.01, -1, cloud);
+  addSheet(cloud, -0.2, -0.2, 0.2, 0.0, 1.2, 0.01, 1);
+  const Result result = extractZUp(cloud.cloud);
+  const int ledge = planeNear(result, 1.2, 0.01);
+  ASSERT_GE(ledge, 0) << describe(result);
+  const HorizontalPlane& plane = result.planes[ledge];
+  EXPECT_LE(plane.bbox[2] - plane.bbox[0], 0.4 + 2 * Params().r_xy) << describe(result);
+  EXPECT_LE(plane.area, 0.08 + 0.04) << "the ledge's 0.08 m², not a band along the wall";
+}
+
 TEST(FragmentMerging, FacingTellsASurfaceSeenFromBelow) {
   // A camera at 1 m looking level at a shelf board 1.5 m up and down at the floor.
   Scene scene;

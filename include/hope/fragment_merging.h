@@ -51,6 +51,12 @@ std::vector<std::vector<std::size_t>> groupFragments(
     const VoxelGrid& grid, const std::vector<Fragment>& fragments,
     const std::optional<Eigen::Vector3d>& viewpoint, const Params& params);
 
+// The fragment of `group` that stands for the surface: the accepted one with the largest
+// footprint (the best estimate of the surface), or the first when none is accepted (such a
+// group never becomes a plane).
+std::size_t representative(const std::vector<Fragment>& fragments,
+                           const std::vector<std::size_t>& group);
+
 // Surface completion, part of the same departure (on when the merge is on). An object standing
 // on a surface bends the normals of the voxels beside it (their neighbourhood takes in the
 // object's foot), so Eq 3 drops a rim one cell wide around every object, and each rim is cut
@@ -60,9 +66,14 @@ std::vector<std::vector<std::size_t>> groupFragments(
 // (same or 8-adjacent column) that no plane owns and that are within it join, breadth-first.
 // Tolerance: r_z / 2 (a voxel of the surface cut by a z cell boundary keeps its centroid
 // within it), or 2.5 robust standard deviations of the members' offsets where the surface is
-// noisier (a far floor). Updates voxel_owner and `voxels`; returns how many voxels changed.
-std::size_t completeSurface(const VoxelGrid& grid, const HorizontalPlane& plane, double r_z,
-                            std::int32_t id, std::vector<std::int32_t>& voxel_owner,
+// noisier (a far floor). A voxel of something vertical never joins — one whose normal leans
+// more than 72.5°, or whose column goes on in the z cells just above and below it: a level
+// patch on a wall (a ledge, or a step of depth quantization) would otherwise grow along the
+// wall as a horizontal band, while the rim's bent normals lean much less and a table has
+// nothing right under its top. Updates voxel_owner and `voxels`; returns how many changed.
+std::size_t completeSurface(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& normals,
+                            const HorizontalPlane& plane, double r_z, std::int32_t id,
+                            std::vector<std::int32_t>& voxel_owner,
                             std::vector<std::uint32_t>& voxels);
 
 }  // namespace hope

@@ -124,13 +124,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   std::vector<Surface> surfaces;
   voxel_plane_.assign(grid_.numVoxels(), -1);
   for (const std::vector<std::size_t>& group : groups) {
-    std::size_t largest = group.front();
-    for (std::size_t k : group) {
-      if (fragments[k].accepted && (!fragments[largest].accepted ||
-                                    fragments[k].plane.area > fragments[largest].plane.area)) {
-        largest = k;
-      }
-    }
+    const std::size_t largest = representative(fragments, group);
     if (!fragments[largest].accepted) continue;
     Surface surface;
     for (std::size_t k : group) {
@@ -157,7 +151,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     // Surface completion (fragment_merging.h) once every surface owns its voxels, so that no
     // surface grows into another.
     for (std::size_t k = 0; k < surfaces.size(); ++k) {
-      completeSurface(grid_, surfaces[k].plane, params_.r_z, static_cast<std::int32_t>(k),
+      completeSurface(grid_, normals_, surfaces[k].plane, params_.r_z, static_cast<std::int32_t>(k),
                       voxel_plane_, surfaces[k].voxels);
     }
   }

@@ -280,14 +280,10 @@ std::vector<std::vector<std::size_t>> groupFragments(
 
     for (const std::vector<std::size_t>& group : candidate_groups) {
       if (group.size() < 2) continue;
-      std::size_t largest = group.front();
+      const std::size_t largest = representative(fragments, group);
       double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
       for (std::size_t k : group) {
         const HorizontalPlane& plane = fragments[k].plane;
-        if (fragments[k].accepted &&
-            (!fragments[largest].accepted || plane.area > fragments[largest].plane.area)) {
-          largest = k;
-        }
         x0 = std::min(x0, plane.bbox[0]);
         y0 = std::min(y0, plane.bbox[1]);
         x1 = std::max(x1, plane.bbox[2]);
@@ -373,8 +369,24 @@ std::vector<std::vector<std::size_t>> groupFragments(
   return groups;
 }
 
-std::size_t completeSurface(const VoxelGrid& grid, const HorizontalPlane& plane, double r_z,
-                            std::int32_t id, std::vector<std::int32_t>& voxel_owner,
+// cos 72.5°: see completeSurface.
+constexpr float kMinCompletionNormalZ = 0.3f;
+
+std::size_t representative(const std::vector<Fragment>& fragments,
+                           const std::vector<std::size_t>& group) {
+  std::size_t best = group.front();
+  for (std::size_t k : group) {
+    if (fragments[k].accepted &&
+        (!fragments[best].accepted || fragments[k].plane.area > fragments[best].plane.area)) {
+      best = k;
+    }
+  }
+  return best;
+}
+
+std::size_t completeSurface(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& normals,
+                            const HorizontalPlane& plane, double r_z, std::int32_t id,
+                            std::vector<std::int32_t>& voxel_owner,
                             std::vector<std::uint32_t>& voxels) {
   if (voxels.empty()) return 0;
   auto offset = [&](std::uint32_t v) {
@@ -406,6 +418,12 @@ std::size_t completeSurface(const VoxelGrid& grid, const HorizontalPlane& plane,
         const auto range = grid.columnVoxels(cx + dx, cy + dy);
         for (std::uint32_t u = range.first; u < range.second; ++u) {
           if (voxel_owner[u] != -1 || offset(u) > tolerance) continue;
+          if (std::fabs(normals[u].z()) < kMinCompletionNormalZ) continue;  // false for NaN
+          // Part of something vertical: the column goes on in the z cells above and below.
+          if (u > range.first && u + 1 < range.second && grid.cellZ(u - 1) == grid.cellZ(u) - 1 &&
+              grid.cellZ(u + 1) == grid.cellZ(u) + 1) {
+            continue;
+          }
           voxel_owner[u] = id;
           voxels.push_back(u);
           ++changed;

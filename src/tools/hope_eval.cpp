@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -24,6 +23,7 @@
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
+#include "hope/tools/output_file.h"
 #include "hope/tools/overlay.h"
 
 namespace {
@@ -155,10 +155,16 @@ Quality quality(const Run& run, const Input& in, double (*truth_height)(int)) {
   return q;
 }
 
+// Every output complete or absent (output_file.h).
+void saveImage(const std::string& path, const cv::Mat& image) {
+  hope::tools::OutputFile file(path);
+  hope::tools::writeImage(file, image);
+  file.commit();
+}
+
 void writePicture(const std::string& path, const Input& in, const std::vector<int>& labels) {
   const double w = hope::synthetic::kPatternHalfWidth + 0.02;
-  if (!cv::imwrite(path, hope::tools::renderLabelsTopDown(in.points, labels, -w, -w, w, w, 480)))
-    throw std::runtime_error("cannot write '" + path + "'");
+  saveImage(path, hope::tools::renderLabelsTopDown(in.points, labels, -w, -w, w, w, 480));
 }
 
 int run(int argc, char** argv) {
@@ -415,10 +421,8 @@ int run(int argc, char** argv) {
           const hope::Result result = extractor.extract(colour.cloud, scene.orientation);
           const std::string file = out_dir + "/evaluation/mosd_" + scene.name +
                                    (params.merge_fragments ? "_merged" : "_paper") + ".png";
-          if (!cv::imwrite(file, hope::tools::renderOverlay(colour.cloud, colour.has_color,
-                                                            extractor.alignedPoints(), result))) {
-            throw std::runtime_error("cannot write '" + file + "'");
-          }
+          saveImage(file, hope::tools::renderOverlay(colour.cloud, colour.has_color,
+                                                     extractor.alignedPoints(), result));
         }
       }
       std::fprintf(stderr, "mOSD: %s done\n", scene.name.c_str());
@@ -439,6 +443,80 @@ int run(int argc, char** argv) {
                        fmt("%.3f", worst_paper) + ").");
   }
 
+  // (6) The PCL Kinect clouds: pictures only (no labels, no pose).
+  md << "\n## 6. PCL's Kinect clouds (pictures)\n\n";
+  const std::string pcl_dir = data_dir + "/pcl";
+  if (!fs::is_directory(pcl_dir)) {
+    md << "Skipped: no clouds at `" << pcl_dir << "`.\n";
+  } else {
+    md << "The Kinect clouds of `" << pcl_dir
+       << "` carry no pose. Each is levelled by itself: a first pass with up = −y (the "
+          "optical frame's up for a level camera) tilted down by 0, 15, … 75°, the first that "
+          "finds a plane of 0.1 m² kept, then up = the normal of its largest plane; default "
+          "r_xy and r_z. Left: hope (fragments merged); right: the paper's "
+          "connected regions. One colour per plane; the count is of planes.\n\n"
+          "| cloud | planes | largest plane: parts merged | planes without the merge |\n"
+          "|---|---:|---:|---:|\n";
+    const std::vector<std::string> names = {"office1", "milk_cartoon_all_small_clorox",
+                                            "table_scene_mug_stereo_textured",
+                                            "grabber_sequence/frame_20121214T142255.814212"};
+    std::string pictures;
+    for (const std::string& name : names) {
+      const std::string path = pcl_dir + "/" + name + ".pcd";
+      if (!fs::is_regular_file(path)) continue;
+      const hope::tools::InputCloud colour = hope::tools::loadCloud(path);
+      hope::Params no_merge = defaults;
+      no_merge.merge_fragments = false;
+      // Levelled by the cloud itself: the camera's pitch is unknown, so up is tried at
+      // pitches of 0, 15, … 75° down (up = (0, −cos θ, −sin θ) in the optical frame); the
+      // first that finds a plane of 0.1 m² or more wins (steeper guesses would take a wall
+      // facing a level camera for a floor), then up is refined to that plane's normal.
+      auto largestOf = [](const hope::Result& r) {
+        return std::max_element(r.planes.begin(), r.planes.end(),
+                                [](const hope::HorizontalPlane& a, const hope::HorizontalPlane& b) {
+                                  return a.area < b.area;
+                                });
+      };
+      hope::Extractor first(defaults);
+      hope::Orientation level = hope::Orientation::fromGravity(0, -1, 0);
+      for (int degrees = 0; degrees <= 75; degrees += 15) {
+        const double pitch = degrees * M_PI / 180.0;
+        const hope::Orientation guess =
+            hope::Orientation::fromGravity(0, -std::cos(pitch), -std::sin(pitch));
+        const hope::Result rough = first.extract(colour.cloud, guess);
+        if (rough.planes.empty() || largestOf(rough)->area < 0.1) continue;
+        const Eigen::Vector3d up =
+            rough.sensor_to_reference.linear().transpose() * largestOf(rough)->normal;
+        level = hope::Orientation::fromGravity(up.x(), up.y(), up.z());
+        break;
+      }
+      std::string file = name.substr(name.find('/') + 1);
+      std::size_t counts[2] = {0, 0};
+      int parts = 1;
+      for (const hope::Params& params : {defaults, no_merge}) {
+        hope::Extractor extractor(params);
+        const hope::Result result = extractor.extract(colour.cloud, level);
+        counts[params.merge_fragments ? 0 : 1] = result.planes.size();
+        if (params.merge_fragments && !result.planes.empty()) {
+          parts = std::max_element(result.planes.begin(), result.planes.end(),
+                                   [](const hope::HorizontalPlane& a,
+                                      const hope::HorizontalPlane& b) { return a.area < b.area; })
+                      ->num_parts;
+        }
+        const std::string png =
+            "evaluation/pcl_" + file + (params.merge_fragments ? "_merged" : "_paper") + ".png";
+        saveImage(out_dir + "/" + png,
+                  hope::tools::renderOverlay(colour.cloud, colour.has_color,
+                                             extractor.alignedPoints(), result));
+        pictures += "![" + file + "](" + png + ") ";
+      }
+      pictures += "\n";
+      md << "| " << name << " | " << counts[0] << " | " << parts << " | " << counts[1] << " |\n";
+      std::fprintf(stderr, "PCL cloud: %s done\n", name.c_str());
+    }
+    md << "\n" << pictures;
+  }
+
   headline.push_back(std::string(tilt_survivors.empty() ? "Met" : "**Missed**") +
                      ": no sloped plane survives a tilt of atan(r_z/r_xy) + 0.01 rad or more" +
                      (tilt_survivors.empty() ? "." : " (planes kept at" + tilt_survivors + ")."));
@@ -456,9 +534,9 @@ int run(int argc, char** argv) {
       text.substr(0, first_section) + summary + "\n" + text.substr(first_section);
 
   const std::string path = out_dir + "/evaluation.md";
-  std::ofstream out(path);
-  out << report;
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  hope::tools::OutputFile file(path);
+  hope::tools::writeText(file, [&](std::ostream& out) { out << report; });
+  file.commit();
   std::cout << report;
   for (const auto& line : headline) std::cerr << "hope_eval: " << line << "\n";
   return 0;

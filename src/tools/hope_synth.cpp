@@ -5,8 +5,8 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +14,8 @@
 
 #include "hope/synthetic/scene.h"
 #include "hope/synthetic/sequences.h"
+#include "hope/tools/io.h"
+#include "hope/tools/output_file.h"
 
 namespace {
 
@@ -31,8 +33,17 @@ W pixels wide (default 640; intrinsics scaled), in the TUM RGB-D layout: depth/ 
 accelerometer.txt (optical frame, m/s^2, pointing up at rest) and intrinsics.txt (fx fy cx cy).
 )";
 
+// Every file complete or absent (output_file.h), as hope_extract's outputs.
 void writeImage(const std::string& path, const cv::Mat& image) {
-  if (!cv::imwrite(path, image)) throw std::runtime_error("cannot write '" + path + "'");
+  hope::tools::OutputFile file(path);
+  hope::tools::writeImage(file, image);
+  file.commit();
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+  hope::tools::OutputFile file(path);
+  hope::tools::writeText(file, [&](std::ostream& out) { out << text; });
+  file.commit();
 }
 
 cv::Mat depthTo16Bit(const cv::Mat& depth) {
@@ -57,13 +68,11 @@ void writeDemo(const std::string& out_dir) {
   const RenderedFrame frame = scene.render(camera);
   writeImage(out_dir + "/depth.png", depthTo16Bit(frame.depth));
   writeImage(out_dir + "/rgb.png", frame.bgr);
-  std::ofstream pose(out_dir + "/pose.txt");
-  pose << poseText(camera.pose) << "\n";
-  std::ofstream truth(out_dir + "/truth.txt");
-  truth << "# label height_m surface\n0 0.00 floor\n1 0.75 table top\n2 0.45 cabinet top\n"
-           "3 0.17 first stair tread\n4 0.34 second stair tread\n5 0.80 book on the table\n"
-           "# not planes: a ramp sloped 0.5 rad, a ball, a cone, a lying tube\n";
-  if (!pose || !truth) throw std::runtime_error("cannot write text files into '" + out_dir + "'");
+  writeTextFile(out_dir + "/pose.txt", poseText(camera.pose) + "\n");
+  writeTextFile(out_dir + "/truth.txt",
+                "# label height_m surface\n0 0.00 floor\n1 0.75 table top\n2 0.45 cabinet top\n"
+                "3 0.17 first stair tread\n4 0.34 second stair tread\n5 0.80 book on the table\n"
+                "# not planes: a ramp sloped 0.5 rad, a ball, a cone, a lying tube\n");
   std::cout << "hope_synth: wrote " << out_dir << "/{depth.png,rgb.png,pose.txt,truth.txt}\n";
 }
 
@@ -73,9 +82,8 @@ void writeSequence(const std::string& out_dir, const std::string& name, int fram
   const TrackingScene scene;
   namespace fs = std::filesystem;
   for (const char* sub : {"depth", "rgb", "truth"}) fs::create_directories(fs::path(out_dir) / sub);
-  std::ofstream depth_list(out_dir + "/depth.txt"), rgb_list(out_dir + "/rgb.txt"),
-      groundtruth(out_dir + "/groundtruth.txt"), accelerometer(out_dir + "/accelerometer.txt"),
-      intrinsics(out_dir + "/intrinsics.txt");
+  // The lists are written when every frame is: complete or absent.
+  std::ostringstream depth_list, rgb_list, groundtruth, accelerometer, intrinsics;
   depth_list << "# depth maps\n# sequence: " << name << " (" << sequence.description
              << ")\n# timestamp filename\n";
   rgb_list << "# color images\n# timestamp filename\n";
@@ -111,8 +119,11 @@ void writeSequence(const std::string& out_dir, const std::string& name, int fram
     }
   }
   if (isatty(2)) std::fprintf(stderr, "\n");
-  if (!depth_list || !rgb_list || !groundtruth || !accelerometer || !intrinsics)
-    throw std::runtime_error("cannot write the lists into '" + out_dir + "'");
+  writeTextFile(out_dir + "/depth.txt", depth_list.str());
+  writeTextFile(out_dir + "/rgb.txt", rgb_list.str());
+  writeTextFile(out_dir + "/groundtruth.txt", groundtruth.str());
+  writeTextFile(out_dir + "/accelerometer.txt", accelerometer.str());
+  writeTextFile(out_dir + "/intrinsics.txt", intrinsics.str());
   std::cout << "hope_synth: wrote " << sequence.frames.size() << " frames of '" << name << "' to "
             << out_dir << " (TUM RGB-D layout)\n";
 }

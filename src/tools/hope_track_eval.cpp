@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -19,6 +19,7 @@
 #include "hope/plane_tracker.h"
 #include "hope/synthetic/sequences.h"
 #include "hope/tools/cli.h"
+#include "hope/tools/output_file.h"
 
 namespace {
 
@@ -188,6 +189,10 @@ int run(int argc, char** argv) {
       throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
     }
   }
+  // Opened now (a temporary beside it), so an unwritable path fails before minutes of work;
+  // renamed into place when complete.
+  std::optional<hope::tools::OutputFile> markdown_file;
+  if (!markdown.empty()) markdown_file.emplace(markdown);
   // The paper's pipeline (one plane per connected region) and the default (fragments merged).
   hope::Params paper_params = params;
   paper_params.merge_fragments = false;
@@ -300,14 +305,15 @@ int run(int argc, char** argv) {
     table << line;
   }
   std::cout << table.str();
-  if (!markdown.empty()) {
-    std::ofstream out(markdown);
-    if (!out) throw std::runtime_error("cannot write '" + markdown + "'");
-    out << kPreamble << "Sequences (" << frames << " frames at 30 Hz, " << width
-        << " px wide, r_xy " << params.r_xy << " m, r_z " << params.r_z << " m):\n\n";
-    for (const std::string& name : names)
-      out << "- `" << name << "`: " << descriptions[name] << "\n";
-    out << "\n" << table.str();
+  if (markdown_file) {
+    hope::tools::writeText(*markdown_file, [&](std::ostream& out) {
+      out << kPreamble << "Sequences (" << frames << " frames at 30 Hz, " << width
+          << " px wide, r_xy " << params.r_xy << " m, r_z " << params.r_z << " m):\n\n";
+      for (const std::string& name : names)
+        out << "- `" << name << "`: " << descriptions[name] << "\n";
+      out << "\n" << table.str();
+    });
+    markdown_file->commit();
   }
   return 0;
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Takes docs/rviz_tum.png: the TUM freiburg1_desk frame (../shared/data, as the rostest bag
 # built by `bash scripts/test.sh`) replayed into the hope nodelet, shown by RViz under Xvfb
-# with rviz/hope.rviz (labeled cloud coloured by plane id, hulls and "id: height" labels).
+# with rviz/hope.rviz (labeled cloud coloured by plane id, plane areas and outlines, "id: height"
+# labels).
 # Needs: rviz xvfb imagemagick (apt-get install -y rviz xvfb imagemagick).
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -21,7 +22,7 @@ sleep 3
 rosparam set use_sim_time true
 rosrun nodelet nodelet manager __name:=manager >/dev/null 2>&1 & pids+=($!)
 rosrun nodelet nodelet load hope/PlaneExtractorNodelet manager __name:=hope \
-  _orientation_source:=tf _reference_frame:=world _tf_timeout:=0.5 \
+  _orientation_source:=tf _reference_frame:=world \
   ~cloud:=/camera/depth/points > "$ROS_LOG_DIR/screenshot_hope.txt" 2>&1 & pids+=($!)
 rviz -d "$root/rviz/hope.rviz" -f world >/dev/null 2>&1 & pids+=($!)
 sleep 6  # RViz under software rendering takes a while to subscribe

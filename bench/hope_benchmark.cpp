@@ -23,6 +23,7 @@
 #include "hope/depth_image.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
 
@@ -87,11 +88,33 @@ const Input& patternView() {
   return input;
 }
 
+// One revolution of a simulated HDL-64E over the LiDAR street (64 × 2118, organized, sensor
+// frame, z up), at the documented LiDAR settings r_xy 0.3, r_z 0.1.
+const Input& lidarScan() {
+  static const Input input = [] {
+    Input in;
+    const auto scan = hope::synthetic::scanWithLidar(hope::synthetic::lidarStreet(),
+                                                     hope::synthetic::LidarModel::hdl64(),
+                                                     hope::synthetic::lidarStreetPose());
+    for (const Eigen::Vector3f& p : scan.points) in.cloud->push_back({p.x(), p.y(), p.z()});
+    in.cloud->width = static_cast<std::uint32_t>(scan.columns);
+    in.cloud->height = static_cast<std::uint32_t>(scan.rings);
+    in.pose = hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero());
+    in.params.r_xy = 0.3;
+    in.params.r_z = 0.1;
+    return in;
+  }();
+  return input;
+}
+
 const Input& inputFor(int which) {
-  return which == 0 ? tumFrame() : which == 1 ? largeCloud() : patternView();
+  return which == 0   ? tumFrame()
+         : which == 1 ? largeCloud()
+         : which == 2 ? patternView()
+                      : lidarScan();
 }
 const char* kInputNames[] = {"TUM_fr1_desk_640x480", "Room_6M_unorganized",
-                             "Pattern_object_640x480_r0.009"};
+                             "Pattern_object_640x480_r0.009", "HDL64_street_64x2118_r0.3"};
 
 // The input selected by the benchmark's argument, or nullptr (and the benchmark marked
 // skipped, with the reason) when it is unavailable.
@@ -109,7 +132,10 @@ void BM_Hope(benchmark::State& state) {
   if (!input) return;
   const Input& in = *input;
   hope::Params params = in.params;
-  params.merge_fragments = state.range(1) != 0;  // 0: the paper's pipeline exactly
+  // 1: hope's defaults; 0: the paper's pipeline exactly; 2: hope without scan-gap bridging.
+  const int mode = static_cast<int>(state.range(1));
+  params.merge_fragments = mode != 0;
+  params.bridge_scan_gaps = mode == 1;
   hope::Extractor extractor(params);
   hope::StageTimings sum;
   std::size_t planes = 0, voxels = 0;
@@ -140,11 +166,14 @@ void BM_Hope(benchmark::State& state) {
   state.counters["voxels"] = static_cast<double>(voxels);
   state.counters["total_ms"] = sum.total_ms / n;
   state.counters["points_per_ms"] = static_cast<double>(in.cloud->size()) / (sum.total_ms / n);
-  state.SetLabel(std::string(kInputNames[state.range(0)]) +
-                 (params.merge_fragments ? "" : ", no merge (paper)"));
+  state.SetLabel(std::string(kInputNames[state.range(0)]) + (mode == 0
+                                                                 ? ", paper (no merge, no bridging)"
+                                                             : mode == 2 ? ", no bridging"
+                                                                         : ""));
 }
-// Arguments: input (0 TUM frame, 1 6 M-point room, 2 pattern object at r_xy 0.009), fragment
-// merge (1 on, the default; 0 off).
+// Arguments: input (0 TUM frame, 1 6 M-point room, 2 pattern object at r_xy 0.009, 3 HDL-64E
+// street scan), mode (1 hope's defaults; 0 the paper's pipeline: no fragment merge, no scan-gap
+// bridging; 2 no bridging).
 BENCHMARK(BM_Hope)
     ->Args({0, 1})
     ->Args({0, 0})
@@ -152,6 +181,9 @@ BENCHMARK(BM_Hope)
     ->Args({1, 0})
     ->Args({2, 1})
     ->Args({2, 0})
+    ->Args({3, 1})
+    ->Args({3, 2})
+    ->Args({3, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

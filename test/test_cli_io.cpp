@@ -142,6 +142,37 @@ TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {
   EXPECT_EQ(overlay.rows, 480);
 }
 
+// The LiDAR path a new user takes: hope_synth writes a VLP-16 scan as a driver would publish it
+// (x y z intensity ring label, rings × azimuth); hope_extract with the sensor at the origin
+// finds the road 1.8 m below it as one plane reaching past 20 m, and --no-bridge does not.
+TEST_F(Cli, SynthLidarScanThenExtractFindsTheRoadFarOut) {
+  const CliRun synth = runTool(HOPE_SYNTH_BIN, "--out " + dir_ + " --lidar vlp16 --scene street");
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  pcl::PointCloud<pcl::PointXYZ> scan;
+  ASSERT_EQ(pcl::io::loadPCDFile(dir_ + "/scan.pcd", scan), 0);
+  EXPECT_EQ(scan.height, 16u);
+  EXPECT_EQ(scan.width, 1800u);
+  // The road's extent along x in each run's JSON: the bbox of the plane at -1.8 m.
+  auto roadReach = [&](const std::string& extra) {
+    const CliRun r = run("--input " + dir_ + "/scan.pcd --viewpoint \"0 0 0\" --r-xy 0.3 " +
+                         "--r-z 0.1 --quiet --json " + dir_ + "/p.json" + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    const std::string json = slurp(dir_ + "/p.json");
+    double reach = 0;
+    for (std::size_t at = json.find("\"height\": "); at != std::string::npos;
+         at = json.find("\"height\": ", at + 1)) {
+      if (std::fabs(std::stod(json.substr(at + 10)) + 1.8) > 0.03) continue;
+      const std::size_t bbox = json.find("\"bbox\": [", at);
+      double x_min = 0, y_min = 0, x_max = 0, y_max = 0;
+      std::sscanf(json.c_str() + bbox + 9, "%lf, %lf, %lf, %lf", &x_min, &y_min, &x_max, &y_max);
+      reach = std::max(reach, std::max(-x_min, x_max));
+    }
+    return reach;
+  };
+  EXPECT_GT(roadReach(""), 20.0);
+  EXPECT_LT(roadReach(" --no-bridge"), 10.0);
+}
+
 TEST_F(Cli, UnorganizedPcdGivesATopDownOverlayAndOneLabelPerPoint) {
   LabeledCloud cloud;
   addSheet(cloud, 0, 0, 1, 1, 0.0, 0.01, 0);

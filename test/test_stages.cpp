@@ -8,6 +8,7 @@
 #include "hope/normal_estimation.h"
 #include "hope/pca_refinement.h"
 #include "hope/plane_description.h"
+#include "hope/scan_gap_bridging.h"
 #include "hope/z_clustering.h"
 
 namespace hope {
@@ -114,6 +115,98 @@ TEST(Normals, IsolatedVoxelsAndLinesHaveNoNormal) {
   std::vector<Eigen::Vector3f> normals;
   estimateNormals(grid, 1.01, normals);
   for (const auto& n : normals) EXPECT_FALSE(n.allFinite());
+}
+
+namespace {
+
+// Rings of a LiDAR at the origin: arcs of radius r (every 2 cm along the arc, ±0.5 rad of
+// azimuth) at height z(r).
+template <class Height>
+std::vector<Eigen::Vector3f> rings(std::initializer_list<double> radii, Height z) {
+  std::vector<Eigen::Vector3f> out;
+  for (double r : radii) {
+    for (double a = -0.5; a <= 0.5; a += 0.02 / r) {
+      out.emplace_back(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)),
+                       static_cast<float>(z(r)));
+    }
+  }
+  return out;
+}
+
+struct Bridged {
+  VoxelGrid grid;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<VoxelLink> links;
+  std::size_t count = 0;
+};
+
+Bridged bridge(const std::vector<Eigen::Vector3f>& pts, const Params& params) {
+  Bridged b;
+  b.grid.build(pts, params.r_xy, params.r_z);
+  estimateNormals(b.grid, params.normal_radius_factor, b.normals);
+  b.count = bridgeScanGaps(b.grid, Eigen::Vector3d::Zero(), params, b.normals, b.links);
+  return b;
+}
+
+}  // namespace
+
+TEST(ScanGapBridging, RingsOfTheGroundBecomeOneLevelCluster) {
+  Params params;
+  params.r_xy = 0.1;
+  params.r_z = 0.05;
+  // Three ground rings 0.6 m apart (6 cells): each ring alone is a line without a normal.
+  const Bridged b = bridge(rings({5.0, 5.6, 6.2}, [](double) { return -1.5; }), params);
+  std::vector<Eigen::Vector3f> plain;
+  estimateNormals(b.grid, params.normal_radius_factor, plain);
+  std::size_t plain_finite = 0, bridged_level = 0;
+  for (std::size_t v = 0; v < b.grid.numVoxels(); ++v) {
+    plain_finite += plain[v].allFinite() ? 1 : 0;
+    bridged_level += b.normals[v].allFinite() && b.normals[v].z() > 0.99f ? 1 : 0;
+  }
+  EXPECT_EQ(plain_finite, 0u);
+  EXPECT_EQ(b.count, b.grid.numVoxels());
+  EXPECT_EQ(bridged_level, b.grid.numVoxels());
+  std::vector<std::uint8_t> candidates;
+  selectHorizontalCandidates(b.normals, params.gamma(), candidates);
+  EXPECT_EQ(zClustering(b.grid, candidates, params.r_z, 3).size(), 3u);  // without the links
+  const auto clusters = zClustering(b.grid, candidates, params.r_z, 3, b.links);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0].size(), b.grid.numVoxels());
+}
+
+TEST(ScanGapBridging, AStepAboveRzASlopeAndAWallAreNotBridged) {
+  Params params;
+  params.r_xy = 0.1;
+  params.r_z = 0.05;
+  // A kerb: the outer ring 6 cm up (above r_z), with ground seen beyond neither.
+  const Bridged kerb =
+      bridge(rings({5.0, 5.6}, [](double r) { return r > 5.3 ? -1.44 : -1.5; }), params);
+  EXPECT_TRUE(kerb.links.empty());
+  // A plane sloping 40° across the rays (rising along y): each ring is a line climbing at 40°
+  // and its next ring along the ray lies level with it, so the link is found, but the plane
+  // through line and link is as steep as the slope, beyond Eq 3's atan(√2·γ) = 35.3°: no
+  // horizontal candidate, no link kept.
+  std::vector<Eigen::Vector3f> slope;
+  for (double r : {5.0, 5.6}) {
+    for (double a = -0.3; a <= 0.3; a += 0.02 / r) {
+      const double x = r * std::cos(a), y = r * std::sin(a);
+      slope.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                         static_cast<float>(-1.5 + std::tan(40.0 * M_PI / 180.0) * y));
+    }
+  }
+  const Bridged sloped = bridge(slope, params);
+  EXPECT_GT(sloped.count, 20u);  // the bridging did give normals
+  std::vector<std::uint8_t> slope_candidates;
+  EXPECT_EQ(selectHorizontalCandidates(sloped.normals, params.gamma(), slope_candidates), 0u);
+  EXPECT_TRUE(sloped.links.empty());
+  // A wall: rings one above the other at the same range, a column going on above and below.
+  std::vector<Eigen::Vector3f> wall;
+  for (double z : {-0.2, -0.1, 0.0, 0.1, 0.2}) {
+    for (const Eigen::Vector3f& p : rings({8.0}, [z](double) { return z; })) wall.push_back(p);
+  }
+  const Bridged w = bridge(wall, params);
+  std::vector<std::uint8_t> candidates;
+  EXPECT_EQ(selectHorizontalCandidates(w.normals, params.gamma(), candidates), 0u);
 }
 
 TEST(HorizontalCandidates, Eq3BoundIsOneOverSqrtOnePlusTwoGammaSquared) {

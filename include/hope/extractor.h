@@ -13,6 +13,7 @@
 #include "hope/params.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"
+#include "hope/scan_gap_bridging.h"
 
 namespace hope {
 
@@ -49,6 +50,8 @@ struct Result {
   std::size_t clusters = 0;
   std::size_t rejected_by_refinement = 0;
   std::size_t rejected_by_band_or_area = 0;
+  // Voxels given a normal across a LiDAR's ring gap (scan_gap_bridging.h).
+  std::size_t bridged_voxels = 0;
   // Planes that the fragment merge joined into another (fragment_merging.h).
   std::size_t merged_fragments = 0;
   // Suspicious input that still produced a result (e.g. a cloud that looks like millimetres).
@@ -89,6 +92,7 @@ class Extractor {
   VoxelGrid grid_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> is_candidate_;
+  std::vector<VoxelLink> links_;           // scan-gap links for Z clustering
   std::vector<std::int32_t> voxel_plane_;  // plane index of each voxel, -1 for none
 };
 

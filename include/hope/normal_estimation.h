@@ -13,6 +13,7 @@
 // slope Eq 3 lets through (atan(√2·γ)), tight enough to keep a plane 3·r_z above out.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,26 @@
 #include "hope/grid_filter.h"
 
 namespace hope {
+
+// The neighbourhood of one voxel described above, as the moments of its neighbours' centroids
+// taken relative to the voxel's own centroid (the voxel itself included).
+class NormalNeighbourhood {
+ public:
+  NormalNeighbourhood(const VoxelGrid& grid, double radius_factor);
+  struct Moments {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    Eigen::Matrix3f outer = Eigen::Matrix3f::Zero();
+    int count = 0;
+    Eigen::Matrix3f covariance() const;  // count > 0
+  };
+  Moments moments(std::size_t v) const;
+
+ private:
+  const VoxelGrid& grid_;
+  std::vector<std::pair<int, int>> offsets_;
+  float max_dz_;
+  int reach_z_ = 1;
+};
 
 // Writes one unit normal per voxel, oriented so that n_z >= 0 (the sign of a PCA normal is
 // arbitrary; §2.2 takes |n_z| for the same reason). A voxel with fewer than 3 neighbours

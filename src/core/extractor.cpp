@@ -9,6 +9,7 @@
 #include "hope/normal_estimation.h"
 #include "hope/pca_refinement.h"
 #include "hope/plane_description.h"
+#include "hope/scan_gap_bridging.h"
 #include "hope/z_clustering.h"
 
 namespace hope {
@@ -67,13 +68,21 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.timings.grid_filter_ms = stage.lap();
 
   estimateNormals(grid_, params_.normal_radius_factor, normals_);
+  // The sensor position in the grid's coordinates, when known.
+  std::optional<Eigen::Vector3d> viewpoint;
+  if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
+  links_.clear();
+  if (params_.bridge_scan_gaps && viewpoint) {
+    result.bridged_voxels = bridgeScanGaps(grid_, *viewpoint, params_, normals_, links_);
+  }
   result.timings.normals_ms = stage.lap();
 
   const double gamma = params_.gamma();
   result.candidates = selectHorizontalCandidates(normals_, gamma, is_candidate_);
   result.timings.candidates_ms = stage.lap();
 
-  const auto clusters = zClustering(grid_, is_candidate_, params_.r_z, params_.min_cluster_voxels);
+  const auto clusters =
+      zClustering(grid_, is_candidate_, params_.r_z, params_.min_cluster_voxels, links_);
   result.clusters = clusters.size();
   result.timings.clustering_ms = stage.lap();
 
@@ -110,8 +119,6 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.rejected_by_refinement = clusters.size() - accepted_fragments;
   result.timings.description_ms = stage.lap();
 
-  std::optional<Eigen::Vector3d> viewpoint;
-  if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
   const std::vector<std::vector<std::size_t>> groups =
       groupFragments(grid_, fragments, viewpoint, params_);
 
@@ -150,9 +157,49 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   if (merge) {
     // Surface completion (fragment_merging.h) once every surface owns its voxels, so that no
     // surface grows into another.
+    const std::vector<std::int32_t> owner_before = voxel_plane_;
     for (std::size_t k = 0; k < surfaces.size(); ++k) {
       completeSurface(grid_, normals_, surfaces[k].plane, params_.r_z, static_cast<std::int32_t>(k),
                       voxel_plane_, surfaces[k].voxels);
+    }
+    // What the completion cut off a surface is not noise when it is a surface itself: a kerb's
+    // top joined to the road through the kerb's face, a driveway climbing away from the road's
+    // plane. Those voxels are clustered and refined again, and each accepted cluster becomes a
+    // surface of its own — unless it lies among the surface it was cut from (its voxels mostly
+    // beside that surface's), which makes it the surface's noisy fringe.
+    std::vector<std::uint8_t> trimmed(grid_.numVoxels(), 0);
+    for (std::size_t v = 0; v < trimmed.size(); ++v) {
+      trimmed[v] = owner_before[v] >= 0 && voxel_plane_[v] < 0 && is_candidate_[v];
+    }
+    auto besideItsOrigin = [&](std::uint32_t v) {
+      const int cx = grid_.cellX(v), cy = grid_.cellY(v);
+      const int offsets[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (const auto& d : offsets) {
+        const auto range = grid_.columnVoxels(cx + d[0], cy + d[1]);
+        for (std::uint32_t u = range.first; u < range.second; ++u) {
+          if (voxel_plane_[u] >= 0 && voxel_plane_[u] == owner_before[v]) return true;
+        }
+      }
+      return false;
+    };
+    for (std::vector<std::uint32_t>& cluster :
+         zClustering(grid_, trimmed, params_.r_z, params_.min_cluster_voxels, links_)) {
+      std::size_t beside = 0;
+      for (std::uint32_t v : cluster) beside += besideItsOrigin(v) ? 1 : 0;
+      if (2 * beside > cluster.size()) continue;
+      const RefinementVerdict verdict = refineWithPCA(normals_, cluster, gamma);
+      if (!verdict.horizontal || footprintMinorVariance(grid_, cluster) < kMinFootprintVariance) {
+        continue;
+      }
+      Surface surface{describePlane(grid_, aligned_, cluster, Detail::kVoxels), std::move(cluster)};
+      if (surface.plane.tilt > params_.maxSlope()) continue;
+      surface.plane.mean_normal_tilt = verdict.mean_tilt;
+      surface.plane.group_angle = verdict.group_angle;
+      for (std::uint32_t v : surface.voxels) {
+        voxel_plane_[v] = static_cast<std::int32_t>(surfaces.size());
+      }
+      ++result.clusters;
+      surfaces.push_back(std::move(surface));
     }
   }
   result.timings.merging_ms = stage.lap();

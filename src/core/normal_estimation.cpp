@@ -16,48 +16,55 @@ constexpr float kMinPlanarity = 0.05f;
 
 }  // namespace
 
+NormalNeighbourhood::NormalNeighbourhood(const VoxelGrid& grid, double radius_factor)
+    : grid_(grid), max_dz_(static_cast<float>(2.0 * grid.rZ())) {
+  // Column offsets (in cells) whose centres lie within radius_factor·r_xy.
+  const int reach = static_cast<int>(std::floor(radius_factor));
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      if (dx * dx + dy * dy <= radius_factor * radius_factor) offsets_.emplace_back(dx, dy);
+    }
+  }
+  reach_z_ = static_cast<int>(std::ceil(max_dz_ / grid.rZ())) + 1;
+}
+
+NormalNeighbourhood::Moments NormalNeighbourhood::moments(std::size_t v) const {
+  const Eigen::Vector3f p = grid_.centroid(v);
+  const int cx = grid_.cellX(v), cy = grid_.cellY(v), cz = grid_.cellZ(v);
+  // Offsets from p keep the sums small, so single precision stays accurate far from 0.
+  Moments m;
+  for (const auto& [dx, dy] : offsets_) {
+    const auto range = grid_.columnVoxels(cx + dx, cy + dy);
+    for (std::uint32_t u = range.first; u < range.second; ++u) {
+      const int uz = grid_.cellZ(u);
+      if (uz < cz - reach_z_) continue;
+      if (uz > cz + reach_z_) break;  // a column's voxels are sorted by z cell
+      const Eigen::Vector3f d = grid_.centroid(u) - p;
+      if (std::fabs(d.z()) > max_dz_) continue;
+      m.sum += d;
+      m.outer.noalias() += d * d.transpose();
+      ++m.count;
+    }
+  }
+  return m;
+}
+
+Eigen::Matrix3f NormalNeighbourhood::Moments::covariance() const {
+  const Eigen::Vector3f mean = sum / static_cast<float>(count);
+  return outer / static_cast<float>(count) - mean * mean.transpose();
+}
+
 void estimateNormals(const VoxelGrid& grid, double radius_factor,
                      std::vector<Eigen::Vector3f>& normals) {
   const std::size_t num_voxels = grid.numVoxels();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   normals.assign(num_voxels, Eigen::Vector3f(nan, nan, nan));
-
-  // Column offsets (in cells) whose centres lie within radius_factor·r_xy.
-  std::vector<std::pair<int, int>> offsets;
-  const int reach = static_cast<int>(std::floor(radius_factor));
-  for (int dy = -reach; dy <= reach; ++dy) {
-    for (int dx = -reach; dx <= reach; ++dx) {
-      if (dx * dx + dy * dy <= radius_factor * radius_factor) offsets.emplace_back(dx, dy);
-    }
-  }
-  const float max_dz = static_cast<float>(2.0 * grid.rZ());
-  const int reach_z = static_cast<int>(std::ceil(max_dz / grid.rZ())) + 1;
-
+  const NormalNeighbourhood neighbourhood(grid, radius_factor);
   for (std::size_t v = 0; v < num_voxels; ++v) {
-    const Eigen::Vector3f p = grid.centroid(v);
-    const int cx = grid.cellX(v), cy = grid.cellY(v), cz = grid.cellZ(v);
-    // Offsets from p keep the sums small, so single precision stays accurate far from 0.
-    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    Eigen::Matrix3f outer = Eigen::Matrix3f::Zero();
-    int count = 0;
-    for (const auto& [dx, dy] : offsets) {
-      const auto range = grid.columnVoxels(cx + dx, cy + dy);
-      for (std::uint32_t u = range.first; u < range.second; ++u) {
-        const int uz = grid.cellZ(u);
-        if (uz < cz - reach_z) continue;
-        if (uz > cz + reach_z) break;  // a column's voxels are sorted by z cell
-        const Eigen::Vector3f d = grid.centroid(u) - p;
-        if (std::fabs(d.z()) > max_dz) continue;
-        sum += d;
-        outer.noalias() += d * d.transpose();
-        ++count;
-      }
-    }
-    if (count < 3) continue;
-    const Eigen::Vector3f mean = sum / static_cast<float>(count);
-    const Eigen::Matrix3f covariance = outer / static_cast<float>(count) - mean * mean.transpose();
+    const NormalNeighbourhood::Moments m = neighbourhood.moments(v);
+    if (m.count < 3) continue;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-    solver.computeDirect(covariance);
+    solver.computeDirect(m.covariance());
     const Eigen::Vector3f& eigenvalues = solver.eigenvalues();  // ascending
     if (!(eigenvalues(1) > kMinPlanarity * eigenvalues(2))) continue;
     Eigen::Vector3f n = solver.eigenvectors().col(0);

@@ -6,9 +6,26 @@ namespace hope {
 
 std::vector<std::vector<std::uint32_t>> zClustering(const VoxelGrid& grid,
                                                     const std::vector<std::uint8_t>& is_candidate,
-                                                    double r_z, int min_voxels) {
+                                                    double r_z, int min_voxels,
+                                                    const std::vector<VoxelLink>& links) {
   std::vector<std::vector<std::uint32_t>> clusters;
   const std::size_t num_voxels = grid.numVoxels();
+  // The links as an adjacency list in both directions (compressed rows).
+  std::vector<std::uint32_t> link_begin, link_target;
+  if (!links.empty()) {
+    link_begin.assign(num_voxels + 1, 0);
+    for (const VoxelLink& link : links) {
+      ++link_begin[link.first + 1];
+      ++link_begin[link.second + 1];
+    }
+    for (std::size_t v = 1; v <= num_voxels; ++v) link_begin[v] += link_begin[v - 1];
+    link_target.resize(2 * links.size());
+    std::vector<std::uint32_t> fill(link_begin.begin(), link_begin.end() - 1);
+    for (const VoxelLink& link : links) {
+      link_target[fill[link.first]++] = link.second;
+      link_target[fill[link.second]++] = link.first;
+    }
+  }
   std::vector<std::uint8_t> visited(num_voxels, 0);
   std::vector<std::uint32_t> members;
   const float max_step = static_cast<float>(r_z);
@@ -37,6 +54,14 @@ std::vector<std::vector<std::uint32_t>> zClustering(const VoxelGrid& grid,
             members.push_back(u);
           }
         }
+      }
+      if (link_begin.empty()) continue;
+      for (std::uint32_t k = link_begin[v]; k < link_begin[v + 1]; ++k) {
+        const std::uint32_t u = link_target[k];
+        if (visited[u] || !is_candidate[u]) continue;
+        if (std::fabs(grid.centroid(u).z() - z) >= max_step) continue;
+        visited[u] = 1;
+        members.push_back(u);
       }
     }
     if (static_cast<int>(members.size()) >= min_voxels) clusters.push_back(members);

@@ -52,7 +52,9 @@ orientation of the sensor in the reference frame (z up); at most one, default: n
   --viewpoint "x y z"             where the sensor was, in the reference frame (default: the
                          pose's translation; the origin for a rotation or a depth image;
                          unknown for a cloud without orientation). The fragment merge uses it
-                         to tell shadows from gaps; each plane's facing (up/down) needs it
+                         to tell shadows from gaps, the scan-gap bridging to find a LiDAR's
+                         next ring; each plane's facing (up/down) needs it. A LiDAR scan in
+                         its own z-up frame: --viewpoint "0 0 0"
 
 sequences
   --sequence DIR         a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of
@@ -77,6 +79,9 @@ parameters
   --no-merge             one plane per connected region, as in the paper (default: fragments
                          of one surface cut apart by clutter or occlusion are merged)
   --max-merge-gap M      widest gap the fragment merge bridges (default 1.0 m)
+  --no-bridge            no scan-gap bridging, as in the paper (default: voxels between a
+                         LiDAR's sparse rings take their normal from the next ring along the
+                         sensor's ray; needs the viewpoint). LiDAR: --r-xy 0.3 --r-z 0.1
   --max-points N         refuse files claiming more points (default 100000000), so a
                          corrupt header cannot make hope allocate gigabytes
 
@@ -93,6 +98,7 @@ struct Options {
   std::map<std::string, std::string> values;
   bool quiet = false;
   bool no_merge = false;
+  bool no_bridge = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -118,6 +124,10 @@ Options parse(int argc, char** argv) {
     }
     if (arg == "--no-merge") {
       options.no_merge = true;
+      continue;
+    }
+    if (arg == "--no-bridge") {
+      options.no_bridge = true;
       continue;
     }
     bool known = false;
@@ -203,6 +213,7 @@ hope::Params parameters(const Options& o) {
   params.min_area = number(o, "--min-area", params.min_area);
   params.merge_fragments = !o.no_merge;
   params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
+  params.bridge_scan_gaps = !o.no_bridge;
   return params;
 }
 

@@ -10,16 +10,33 @@
 #include <stdexcept>
 #include <string>
 
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "hope/synthetic/lidar.h"
 #include "hope/synthetic/scene.h"
 #include "hope/synthetic/sequences.h"
 #include "hope/tools/io.h"
 #include "hope/tools/output_file.h"
 
+// A spinning LiDAR's point as drivers publish it, with the simulation's ground truth.
+struct SyntheticLidarPoint {
+  PCL_ADD_POINT4D;
+  float intensity;
+  std::uint16_t ring;
+  std::int32_t label;  // ground-truth surface (see truth.txt), -1 none
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+} EIGEN_ALIGN16;
+POINT_CLOUD_REGISTER_POINT_STRUCT(SyntheticLidarPoint,
+                                  (float, x, x)(float, y, y)(float, z, z)(float, intensity,
+                                                                          intensity)(
+                                      std::uint16_t, ring, ring)(std::int32_t, label, label))
+
 namespace {
 
 const char* kUsage = R"(usage: hope_synth --out DIR [--sequence NAME [--frames N] [--width W]]
+       hope_synth --out DIR --lidar MODEL [--scene street|room] [--unorganized]
 
 Without --sequence: renders the demo room (floor, table, book, cabinet, two stair treads, a
 ramp, a ball, a cone, a tube) seen by a 640x480 depth camera with structured-light noise.
@@ -31,6 +48,14 @@ table, book, cabinet, stairs and the paper's pattern object, N frames at 30 Hz (
 W pixels wide (default 640; intrinsics scaled), in the TUM RGB-D layout: depth/ rgb/ truth/
 (ground-truth surface per pixel, 16-bit, label + 1), depth.txt, rgb.txt, groundtruth.txt,
 accelerometer.txt (optical frame, m/s^2, pointing up at rest) and intrinsics.txt (fx fy cx cy).
+
+With --lidar MODEL (vlp16, hdl64 or os128): one revolution of a spinning LiDAR over a street
+(road, 12 cm kerb and sidewalk, a 1.2 m loading platform, a parked car, a bench, a 2° driveway,
+a 25° ramp; the sensor 1.8 m up) or a room (floor, table, two boards, ceiling; 1.2 m up), range
+noise 2 cm. Writes DIR/scan.pcd in the sensor's frame (z up): x y z intensity ring label,
+organized rings x azimuth steps with NaN where a beam returned nothing (--unorganized: the
+returns only), and DIR/truth.txt (the surfaces and their heights in that frame). Try:
+  hope_extract --input DIR/scan.pcd --viewpoint "0 0 0" --r-xy 0.3 --r-z 0.1
 )";
 
 // Every file complete or absent (output_file.h), as hope_extract's outputs.
@@ -128,10 +153,74 @@ void writeSequence(const std::string& out_dir, const std::string& name, int fram
             << out_dir << " (TUM RGB-D layout)\n";
 }
 
+void writeLidar(const std::string& out_dir, const std::string& model_name,
+                const std::string& scene_name, bool organized) {
+  using namespace hope::synthetic;
+  const LidarModel model = LidarModel::byName(model_name);
+  std::ostringstream truth;
+  Scene scene;
+  Eigen::Isometry3d pose;
+  if (scene_name == "street") {
+    scene = lidarStreet();
+    pose = lidarStreetPose();
+    const double z = -pose.translation().z();
+    truth << "# label height_m surface (sensor frame, z up; the sensor is 1.8 m above the road)\n"
+          << street::kRoad << " " << z << " road (the ground)\n"
+          << street::kGrade << " - driveway climbing at " << street::kGradeDeg
+          << " deg from the road\n"
+          << street::kSidewalk << " " << z + street::kSidewalkHeight << " sidewalk\n"
+          << street::kPlatform << " " << z + street::kPlatformHeight << " loading platform\n"
+          << street::kCarRoof << " " << z + street::kCarRoofHeight << " car roof\n"
+          << street::kCarHood << " " << z + street::kCarHoodHeight << " car bonnet and boot\n"
+          << street::kBench << " " << z + street::kBenchHeight << " bench seat\n"
+          << street::kRamp << " - ramp at " << street::kRampDeg << " deg (not horizontal)\n";
+  } else if (scene_name == "room") {
+    scene = lidarRoom();
+    pose = lidarRoomPose();
+    const double z = -pose.translation().z();
+    truth << "# label height_m surface (sensor frame, z up; the sensor is 1.2 m above the floor)\n"
+          << room::kFloor << " " << z << " floor\n"
+          << room::kTable << " " << z + room::kTableHeight << " table\n"
+          << room::kLowBoard << " " << z + room::kLowBoardHeight << " low board\n"
+          << room::kHighBoard << " " << z + room::kHighBoardHeight << " high board\n"
+          << room::kCeiling << " " << z + room::kCeilingHeight << " ceiling (seen from below)\n";
+  } else {
+    throw std::invalid_argument("unknown --scene '" + scene_name + "' (choose street or room)");
+  }
+  const LidarScan scan = scanWithLidar(scene, model, pose);
+  pcl::PointCloud<SyntheticLidarPoint> cloud;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    if (!organized && !scan.valid(i)) continue;
+    SyntheticLidarPoint p;
+    p.x = scan.points[i].x();
+    p.y = scan.points[i].y();
+    p.z = scan.points[i].z();
+    p.intensity = scan.intensity[i];
+    p.ring = scan.ring[i];
+    p.label = scan.labels[i];
+    cloud.push_back(p);
+  }
+  if (organized) {
+    cloud.width = static_cast<std::uint32_t>(scan.columns);
+    cloud.height = static_cast<std::uint32_t>(scan.rings);
+    cloud.is_dense = false;
+  }
+  hope::tools::OutputFile file(out_dir + "/scan.pcd");
+  if (pcl::io::savePCDFileBinary(file.writePath(), cloud) != 0) {
+    hope::tools::throwCannotWrite(file.path());
+  }
+  file.commit();
+  writeTextFile(out_dir + "/truth.txt", truth.str());
+  std::cout << "hope_synth: wrote " << out_dir << "/{scan.pcd,truth.txt}: " << model.name << " ("
+            << scan.rings << " rings x " << scan.columns << " steps), " << scene_name << ", "
+            << cloud.size() << " points" << (organized ? " (organized)" : "") << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out_dir, sequence;
+  std::string out_dir, sequence, lidar, lidar_scene = "street";
+  bool unorganized = false;
   int frames = 60, width = 640;
   try {
     for (int i = 1; i < argc; ++i) {
@@ -148,6 +237,12 @@ int main(int argc, char** argv) {
         frames = std::stoi(value());
       } else if (arg == "--width") {
         width = std::stoi(value());
+      } else if (arg == "--lidar") {
+        lidar = value();
+      } else if (arg == "--scene") {
+        lidar_scene = value();
+      } else if (arg == "--unorganized") {
+        unorganized = true;
       } else if (arg == "--help" || arg == "-h") {
         std::cout << kUsage;
         return 0;
@@ -161,7 +256,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (sequence.empty()) {
+    if (!lidar.empty()) {
+      std::filesystem::create_directories(out_dir);
+      writeLidar(out_dir, lidar, lidar_scene, !unorganized);
+    } else if (sequence.empty()) {
       writeDemo(out_dir);
     } else {
       writeSequence(out_dir, sequence, frames, width);

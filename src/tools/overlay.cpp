@@ -149,7 +149,10 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
 
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
                       const std::vector<Eigen::Vector3f>& aligned, const Result& result) {
-  if (cloud.height > 1 && cloud.width * cloud.height == cloud.size()) {
+  // A camera's image is at most a few times wider than high; a spinning LiDAR's rings x azimuth
+  // layout (16-128 rows, 1000-4000 columns) reads better from above.
+  const bool image_like = cloud.height > 1 && cloud.width <= 4 * cloud.height;
+  if (image_like && cloud.width * cloud.height == cloud.size()) {
     return imageOverlay(cloud, has_color, result);
   }
   return topDownOverlay(aligned, result);

@@ -54,7 +54,8 @@ void printTable(std::ostream& out, const Result& result) {
       << result.input_points << " points, " << result.voxels << " voxels, " << result.candidates
       << " candidates, " << result.clusters << " clusters (" << result.rejected_by_refinement
       << " rejected by refinement, " << result.rejected_by_band_or_area
-      << " by height band / area, " << result.merged_fragments << " fragment(s) merged)\n";
+      << " by height band / area, " << result.merged_fragments << " fragment(s) merged, "
+      << result.bridged_voxels << " voxel(s) bridged)\n";
   out << std::fixed << std::setprecision(2) << "time " << t.total_ms << " ms: alignment "
       << t.alignment_ms << ", grid " << t.grid_filter_ms << ", normals " << t.normals_ms
       << ", candidates " << t.candidates_ms << ", clustering " << t.clustering_ms << ", refinement "
@@ -97,7 +98,8 @@ void writeJson(std::ostream& out, const Result& result) {
       << ", \"candidates\": " << result.candidates << ", \"clusters\": " << result.clusters
       << ", \"rejected_by_refinement\": " << result.rejected_by_refinement
       << ", \"rejected_by_band_or_area\": " << result.rejected_by_band_or_area
-      << ", \"merged_fragments\": " << result.merged_fragments << "},\n"
+      << ", \"merged_fragments\": " << result.merged_fragments
+      << ", \"bridged_voxels\": " << result.bridged_voxels << "},\n"
       << "  \"warnings\": [";
   for (std::size_t w = 0; w < result.warnings.size(); ++w) {
     out << (w ? ", " : "") << "\"" << escape(result.warnings[w]) << "\"";

@@ -21,9 +21,10 @@ cv::Vec3b vocColor(int index);
 // 255 ids so that large ids still get a colour (never the black background).
 cv::Vec3b planeColor(int id);
 
-// For an organized cloud: the image (its colour, or a grey depth rendering) with every plane's
-// pixels tinted by its id and "id: height" written on it. For an unorganized cloud: a top-down
-// view of the aligned points, planes tinted, outlines drawn and labelled.
+// For an organized cloud shaped like an image (at most 4 times wider than high): the image
+// (its colour, or a grey depth rendering) with every plane's pixels tinted by its id and
+// "id: height" written on it. Otherwise (unorganized, or a LiDAR's rings x azimuth): a
+// top-down view of the aligned points, planes tinted, outlines drawn and labelled.
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
                       const std::vector<Eigen::Vector3f>& aligned, const Result& result);
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
 
+#include "hope/depth_image.h"
 #include "hope/evaluation/lidar_metrics.h"
 #include "hope/extractor.h"
 #include "hope/synthetic/lidar.h"
@@ -140,6 +141,22 @@ TEST(LidarStreet, Vlp16GroundToThirtyMetres) {
   // Below the HDL-64E's 0.98: with 16 rings a larger share of the ground's voxels hold the foot
   // of a kerb or a wall, which the ground truth does not count as road.
   EXPECT_GE(ground.precision, 0.95);
+}
+
+// A camera's image is dense in both directions and is never bridged; the same points as an
+// unorganized cloud are.
+TEST(LidarStreet, ACameraImageIsNotBridged) {
+  const synthetic::Scene scene = synthetic::demoRoom();
+  const synthetic::Camera camera = synthetic::demoCamera();
+  const synthetic::RenderedFrame frame = scene.render(camera);
+  pcl::PointCloud<pcl::PointXYZ> cloud = depthToCloud(frame.depth, camera.intrinsics, 1.0);
+  Extractor extractor;
+  const Orientation pose = Orientation::fromTransform(camera.pose);
+  ASSERT_TRUE(pose.viewpoint().has_value());
+  EXPECT_EQ(extractor.extract(cloud, pose).bridged_voxels, 0u);
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+  EXPECT_GT(extractor.extract(cloud, pose).bridged_voxels, 0u);
 }
 
 TEST(LidarRoom, Ouster128FloorTableShelfAndCeiling) {

@@ -35,7 +35,8 @@ struct Params {
   double max_merge_gap = 1.0;
   // Scan-gap bridging (a departure from the paper, see scan_gap_bridging.h): voxels that the
   // gaps between a spinning LiDAR's rings leave without a normal take it from the next ring
-  // along the sensor's ray. Needs the sensor position; false reproduces the paper.
+  // along the sensor's ray. Needs the sensor position; applies to LiDAR layouts (rings ×
+  // azimuth) and unorganized clouds, not to a camera's image. false reproduces the paper.
   bool bridge_scan_gaps = true;
 
   // γ of Eq 3 and Eq 10.

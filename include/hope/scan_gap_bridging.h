@@ -16,7 +16,8 @@
 // on above and below it (a wall's scan lines) is not bridged.
 //
 // Needs the sensor position (Orientation::viewpoint()); clouds from a moving sensor merged
-// into a map have none, and the bridging is skipped.
+// into a map have none, and the bridging is skipped. The extractor skips it for a camera's
+// image too (organized, at most 4 times wider than high), whose rows are dense.
 #pragma once
 
 #include <cstdint>

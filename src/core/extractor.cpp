@@ -72,7 +72,11 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   std::optional<Eigen::Vector3d> viewpoint;
   if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
   links_.clear();
-  if (params_.bridge_scan_gaps && viewpoint) {
+  // A camera's image (organized, at most 4 times wider than high) samples surfaces densely in
+  // both directions; only a LiDAR's rings × azimuth layout or an unorganized scan is bridged.
+  // (On the rendered tracking sequences bridging the far floor of depth images added ids.)
+  const bool image_like = cloud.organized() && cloud.width <= 4 * std::size_t{cloud.height};
+  if (params_.bridge_scan_gaps && viewpoint && !image_like) {
     result.bridged_voxels = bridgeScanGaps(grid_, *viewpoint, params_, normals_, links_);
   }
   result.timings.normals_ms = stage.lap();

@@ -562,7 +562,8 @@ int run(int argc, char** argv) {
       }
       in.viewpoint = Eigen::Vector3d::Zero();
       hope::Params no_merge = defaults;
-      no_merge.merge_fragments = false;
+      no_merge.merge_fragments = false;  // the paper: no merge, no bridging
+      no_merge.bridge_scan_gaps = false;
       std::vector<Run> runs = runAll(in, defaults);
       runs.insert(runs.begin() + 1, runHope(in, no_merge));
       std::vector<double> iou;
@@ -632,7 +633,8 @@ int run(int argc, char** argv) {
       if (!fs::is_regular_file(path)) continue;
       const hope::tools::InputCloud colour = hope::tools::loadCloud(path);
       hope::Params no_merge = defaults;
-      no_merge.merge_fragments = false;
+      no_merge.merge_fragments = false;  // the paper: no merge, no bridging
+      no_merge.bridge_scan_gaps = false;
       // Levelled by the cloud itself: the camera's pitch is unknown, so up is tried at
       // pitches of 0, 15, … 75° down (up = (0, −cos θ, −sin θ) in the optical frame); the
       // first that finds a plane of 0.1 m² or more wins (steeper guesses would take a wall

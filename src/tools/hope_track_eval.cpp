@@ -195,7 +195,8 @@ int run(int argc, char** argv) {
   if (!markdown.empty()) markdown_file.emplace(markdown);
   // The paper's pipeline (one plane per connected region) and the default (fragments merged).
   hope::Params paper_params = params;
-  paper_params.merge_fragments = false;
+  paper_params.merge_fragments = false;  // the paper: no merge, no bridging
+  paper_params.bridge_scan_gaps = false;
   hope::Extractor merging(params), paper_extractor(paper_params);
   const hope::synthetic::TrackingScene scene;
   std::vector<Row> rows;

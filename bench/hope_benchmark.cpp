@@ -4,8 +4,11 @@
 //
 //   build/devel/lib/hope/hope_benchmark [--benchmark_filter=TUM]
 //
-// Inputs: the TUM freiburg1_desk frame from ../shared/data (skipped when absent) and a
-// 6-million-point unorganized scan of the synthetic demo room (generated on first use).
+// Inputs: the TUM freiburg1_desk frame from $HOPE_SHARED_DATA (default ../shared/data from
+// the working directory; skipped when absent), and generated on first use: a 6-million-point
+// unorganized scan of the synthetic demo room, the pattern object seen by a camera and a
+// simulated HDL-64E street scan.
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -39,11 +42,13 @@ struct Input {
 const Input& tumFrame() {
   static const Input input = [] {
     Input in;
-    const std::string dir = std::string(HOPE_SHARED_DATA) + "/tum_fr1_desk";
+    const char* shared = std::getenv("HOPE_SHARED_DATA");
+    const std::string dir =
+        std::string(shared && *shared ? shared : "../shared/data") + "/tum_fr1_desk";
     const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);
     std::ifstream gt(dir + "/groundtruth.txt");
     if (depth.empty() || !gt) {
-      in.error = "TUM frame not found under " + dir;
+      in.error = "TUM frame not found under " + dir + " (set HOPE_SHARED_DATA)";
       return in;
     }
     std::string line;

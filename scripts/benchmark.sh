@@ -7,5 +7,7 @@ export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 bash scripts/build.sh
+# The TUM frame comes from the shared data beside the checkout unless HOPE_SHARED_DATA says.
+export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
 # Google Benchmark's own header carries the date, the command and the machine.
 ./build/devel/lib/hope/hope_benchmark "$@" 2>&1 | tee docs/benchmark_latest.txt

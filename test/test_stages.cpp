@@ -1,6 +1,7 @@
 // Each stage on its own, with hand-checkable inputs.
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "helpers.h"
 #include "hope/grid_filter.h"
@@ -286,6 +287,47 @@ TEST(PlaneDescription, ConvexHullIsCounterClockwiseAndDropsInteriorPoints) {
     twice_area += a.x() * b.y() - b.x() * a.y();
   }
   EXPECT_NEAR(twice_area, 2.0, 1e-12);  // positive: counter-clockwise
+}
+
+// The description skips voxels the plane surrounds on all four diagonal sides when it looks
+// for hull vertices and bbox extremes; the hull and bbox must be those of every point.
+TEST(PlaneDescription, HullAndBboxEqualThoseOfEveryPoint) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int shape = 0; shape < 3; ++shape) {
+    // Random points of an annulus (shape 0), a thin cross (1) and a scatter of rings (2).
+    std::vector<Eigen::Vector3f> pts;
+    while (pts.size() < 20000) {
+      const double x = 3 * uniform(rng), y = 3 * uniform(rng), r = std::hypot(x, y);
+      const bool keep = shape == 0   ? (r > 1.0 && r < 2.8)
+                        : shape == 1 ? (std::fabs(x) < 0.2 || std::fabs(y) < 0.15)
+                                     : std::fabs(std::fmod(r, 0.7) - 0.35) < 0.03;
+      if (keep) pts.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.0f);
+    }
+    VoxelGrid grid;
+    grid.build(pts, 0.1, 0.05);
+    std::vector<std::uint32_t> all(grid.numVoxels());
+    for (std::uint32_t v = 0; v < all.size(); ++v) all[v] = v;
+    const HorizontalPlane plane = describePlane(grid, pts, all);
+    std::vector<Eigen::Vector2d> flat;
+    Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+    for (const Eigen::Vector3f& p : pts) {
+      flat.emplace_back(p.x(), p.y());
+      lo = lo.cwiseMin(flat.back());
+      hi = hi.cwiseMax(flat.back());
+    }
+    const std::vector<Eigen::Vector2d> expected = convexHull2D(flat);
+    ASSERT_EQ(plane.hull.size(), expected.size()) << "shape " << shape;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(plane.hull[k].x(), expected[k].x()) << "shape " << shape << " vertex " << k;
+      EXPECT_EQ(plane.hull[k].y(), expected[k].y()) << "shape " << shape << " vertex " << k;
+    }
+    EXPECT_EQ(plane.bbox[0], lo.x());
+    EXPECT_EQ(plane.bbox[1], lo.y());
+    EXPECT_EQ(plane.bbox[2], hi.x());
+    EXPECT_EQ(plane.bbox[3], hi.y());
+    EXPECT_EQ(plane.num_points, pts.size());
+  }
 }
 
 }  // namespace test

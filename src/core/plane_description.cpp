@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Eigenvalues>
 
@@ -14,6 +15,58 @@ namespace {
 double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
+
+// Whether a voxel's cell lies strictly inside the convex hull of the other cells' points: true
+// when the plane has cells in all four diagonal quadrants around it (up-left, up-right,
+// down-left, down-right: columns and rows strictly beyond the cell's). Then every point p of
+// the cell has plane points in all four open quadrants around it, and a line through p with
+// all of them on one side would leave one quadrant empty; so p is inside the hull, and no
+// point of the cell is a hull vertex or a bbox extreme. On a large plane this leaves the hull
+// a small share of the candidates, exactly.
+class InteriorTest {
+ public:
+  InteriorTest() = default;
+  InteriorTest(const VoxelGrid& grid, const std::vector<std::uint32_t>& members) {
+    std::int64_t y_lo = INT64_MAX, y_hi = INT64_MIN;
+    for (std::uint32_t v : members) {
+      y_lo = std::min<std::int64_t>(y_lo, grid.cellY(v));
+      y_hi = std::max<std::int64_t>(y_hi, grid.cellY(v));
+    }
+    y0_ = y_lo;
+    const std::size_t rows = static_cast<std::size_t>(y_hi - y_lo + 1);
+    // Per row: the smallest and largest column of the plane (none: max / min sentinels).
+    std::vector<std::int64_t> row_min(rows, INT64_MAX), row_max(rows, INT64_MIN);
+    for (std::uint32_t v : members) {
+      const std::size_t r = static_cast<std::size_t>(grid.cellY(v) - y0_);
+      row_min[r] = std::min<std::int64_t>(row_min[r], grid.cellX(v));
+      row_max[r] = std::max<std::int64_t>(row_max[r], grid.cellX(v));
+    }
+    // The same over all rows above (suffix) and below (prefix) each row.
+    above_min_.assign(rows + 1, INT64_MAX);
+    above_max_.assign(rows + 1, INT64_MIN);
+    below_min_.assign(rows + 1, INT64_MAX);
+    below_max_.assign(rows + 1, INT64_MIN);
+    for (std::size_t r = rows; r-- > 0;) {
+      above_min_[r] = std::min(above_min_[r + 1], row_min[r]);
+      above_max_[r] = std::max(above_max_[r + 1], row_max[r]);
+    }
+    for (std::size_t r = 0; r < rows; ++r) {
+      below_min_[r + 1] = std::min(below_min_[r], row_min[r]);
+      below_max_[r + 1] = std::max(below_max_[r], row_max[r]);
+    }
+  }
+  bool operator()(std::int64_t cx, std::int64_t cy) const {
+    if (above_min_.empty()) return false;
+    const std::size_t r = static_cast<std::size_t>(cy - y0_);
+    // Rows strictly above: r + 1 onwards; strictly below: rows 0 .. r - 1 (below_*[r]).
+    return above_min_[r + 1] < cx && above_max_[r + 1] > cx && below_min_[r] < cx &&
+           below_max_[r] > cx;
+  }
+
+ private:
+  std::int64_t y0_ = 0;
+  std::vector<std::int64_t> above_min_, above_max_, below_min_, below_max_;
+};
 
 }  // namespace
 
@@ -70,13 +123,14 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-  // The hull of all points equals the hull of each voxel's xy-extreme points, which are far
-  // fewer: up to four per voxel.
+  // Hull candidates: every point of the voxels at the plane's rim (see InteriorTest); the
+  // surrounded voxels' points are inside the hull.
   std::vector<Eigen::Vector2d> hull_candidates;
-  if (detail == Detail::kFull) hull_candidates.reserve(4 * members.size());
   std::vector<std::uint64_t> columns;
   columns.reserve(members.size());
   std::size_t count = 0;
+  const InteriorTest interior =
+      detail == Detail::kFull ? InteriorTest(grid, members) : InteriorTest();
 
   for (std::uint32_t v : members) {
     columns.push_back(grid.column(v));
@@ -93,34 +147,18 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
       hi = hi.cwiseMax(Eigen::Vector2d(x0 + grid.rXY(), y0 + grid.rXY()));
       continue;
     }
-    // Indices of the min x, max x, min y, max y points, with their coordinates cached.
-    std::uint32_t extreme[4] = {*begin, *begin, *begin, *begin};
-    const Eigen::Vector3f& first = aligned[*begin];
-    float min_x = first.x(), max_x = first.x(), min_y = first.y(), max_y = first.y();
-    for (const std::uint32_t* it = begin + 1; it != end; ++it) {
-      const Eigen::Vector3f& p = aligned[*it];
-      if (p.x() < min_x) {
-        min_x = p.x();
-        extreme[0] = *it;
-      }
-      if (p.x() > max_x) {
-        max_x = p.x();
-        extreme[1] = *it;
-      }
-      if (p.y() < min_y) {
-        min_y = p.y();
-        extreme[2] = *it;
-      }
-      if (p.y() > max_y) {
-        max_y = p.y();
-        extreme[3] = *it;
-      }
+    if (interior(grid.cellX(v), grid.cellY(v))) {
+      // No point of this voxel can be a hull vertex, nor extend the bbox (the plane has cells
+      // beyond it on every side); only its count matters.
+      continue;
     }
-    for (const std::uint32_t e : extreme) {
-      const Eigen::Vector3f& p = aligned[e];
+    // A voxel at the plane's rim: every point is a hull candidate (a vertex need not be a
+    // voxel's extreme in x or y: one at a cell's corner can stick out diagonally).
+    for (const std::uint32_t* it = begin; it != end; ++it) {
+      const Eigen::Vector3f& p = aligned[*it];
       hull_candidates.emplace_back(p.x(), p.y());
-      lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y()));
-      hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
+      lo = lo.cwiseMin(hull_candidates.back());
+      hi = hi.cwiseMax(hull_candidates.back());
     }
   }
 

@@ -16,6 +16,9 @@ namespace {
 // The farthest a link reaches, as a share of the voxel's horizontal range: ring spacing grows
 // with range, and half the range covers an HDL-64E to 100 m and a VLP-16 to 30 m.
 constexpr double kMaxGapShare = 0.5;
+// And never more than this many cells, so that a hostile cloud (pairs of points scattered over
+// kilometres at a fine r_xy) cannot make the walks cost seconds.
+constexpr double kMaxWalkCells = 4096;
 // The walk's map of occupied blocks: blocks of at least kBlockColumns² columns, and no more
 // than kMaxBlocks of them however fine the grid.
 constexpr std::int64_t kBlockColumns = 8;
@@ -63,31 +66,56 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
   }
   const double block_size = static_cast<double>(block) * r_xy;
 
-  // The first voxel within r_z of `v`'s height along the horizontal ray direction `dir`.
+  // The first voxel within r_z of `v`'s height along the horizontal ray direction `dir`,
+  // visiting every column the ray crosses once (a grid traversal after Amanatides and Woo),
+  // jumping over empty blocks.
   auto walk = [&](std::uint32_t v, const Eigen::Vector2d& dir, double reach, std::uint32_t& found) {
     const Eigen::Vector3f c = grid.centroid(v);
     const int cx = grid.cellX(v), cy = grid.cellY(v);
-    std::int64_t last_x = cx, last_y = cy;
-    // Half-cell steps visit every column the ray crosses but a corner's.
-    for (double s = r_xy; s <= reach; s += 0.5 * r_xy) {
-      const double px = c.x() + s * dir.x() - x0, py = c.y() + s * dir.y() - y0;
-      const std::int64_t x = static_cast<std::int64_t>(std::floor(px / r_xy));
-      const std::int64_t y = static_cast<std::int64_t>(std::floor(py / r_xy));
+    const double px = c.x() - x0, py = c.y() - y0;  // the start, relative to the grid's corner
+    const std::int64_t step_x = dir.x() > 0 ? 1 : -1, step_y = dir.y() > 0 ? 1 : -1;
+    const double delta_x = dir.x() != 0 ? r_xy / std::fabs(dir.x()) : HUGE_VAL;
+    const double delta_y = dir.y() != 0 ? r_xy / std::fabs(dir.y()) : HUGE_VAL;
+    // Ray parameter (metres along dir) at which the ray crosses into `bound` along one axis.
+    auto crossing = [](double bound, double start, double d) {
+      return d != 0 ? (bound - start) / d : HUGE_VAL;
+    };
+    std::int64_t x = 0, y = 0;
+    double next_x = 0, next_y = 0, t = 0;
+    auto enter = [&](double at) {  // (re)starts the traversal at ray parameter `at`
+      t = at;
+      x = static_cast<std::int64_t>(std::floor((px + at * dir.x()) / r_xy));
+      y = static_cast<std::int64_t>(std::floor((py + at * dir.y()) / r_xy));
+      next_x = crossing(static_cast<double>(dir.x() > 0 ? x + 1 : x) * r_xy, px, dir.x());
+      next_y = crossing(static_cast<double>(dir.y() > 0 ? y + 1 : y) * r_xy, py, dir.y());
+    };
+    enter(0.0);
+    bool advance = true;
+    for (;;) {
+      if (advance) {
+        if (next_x < next_y) {
+          t = next_x;
+          x += step_x;
+          next_x += delta_x;
+        } else {
+          t = next_y;
+          y += step_y;
+          next_y += delta_y;
+        }
+      }
+      advance = true;
+      if (t > reach) return false;
       if (x < 0 || y < 0 || x > max_x || y > max_y) return false;  // left the grid
       const std::int64_t bx = x / block, by = y / block;
       if (!block_occupied[static_cast<std::size_t>(by * blocks_x + bx)]) {
-        // Jump to where the ray leaves this empty block (then on by the loop's half step).
-        double exit = HUGE_VAL;
-        if (dir.x() > 0) exit = std::min(exit, ((bx + 1) * block_size - px) / dir.x());
-        if (dir.x() < 0) exit = std::min(exit, (bx * block_size - px) / dir.x());
-        if (dir.y() > 0) exit = std::min(exit, ((by + 1) * block_size - py) / dir.y());
-        if (dir.y() < 0) exit = std::min(exit, (by * block_size - py) / dir.y());
-        if (exit > 0.5 * r_xy && exit < HUGE_VAL) s += exit - 0.5 * r_xy;
+        // On to the first column beyond this empty block.
+        const double exit = std::min(
+            crossing(static_cast<double>(dir.x() > 0 ? bx + 1 : bx) * block_size, px, dir.x()),
+            crossing(static_cast<double>(dir.y() > 0 ? by + 1 : by) * block_size, py, dir.y()));
+        enter(std::max(exit, t) + 1e-4 * r_xy);
+        advance = false;
         continue;
       }
-      if (x == last_x && y == last_y) continue;
-      last_x = x;
-      last_y = y;
       if (std::abs(x - cx) <= 1 && std::abs(y - cy) <= 1) continue;  // the voxel's own neighbours
       const auto range = grid.columnVoxels(x, y);
       float best_dz = r_z;
@@ -105,7 +133,6 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
       // stands higher may hide the surface's continuation and is walked past.
       if (lower) return false;
     }
-    return false;
   };
 
   const std::size_t num_voxels = grid.numVoxels();
@@ -148,8 +175,8 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
     bool any = false;
     for (const Eigen::Vector2d& dir : {Eigen::Vector2d(-outward), outward}) {
       if (any && best.normal.z() > candidate_bound) break;
-      const double reach = dir.dot(outward) > 0 ? kMaxGapShare * range
-                                                : std::min(kMaxGapShare * range, range - r_xy);
+      const double reach = std::min({kMaxGapShare * range, kMaxWalkCells * r_xy,
+                                     dir.dot(outward) > 0 ? HUGE_VAL : range - r_xy});
       std::uint32_t u = 0;
       if (!walk(static_cast<std::uint32_t>(v), dir, reach, u)) continue;
       const Eigen::Vector3f link = grid.centroid(u) - c;

@@ -20,7 +20,7 @@ using evaluation::SurfaceScore;
 using synthetic::LidarModel;
 using synthetic::LidarScan;
 
-// The documented LiDAR settings (README, config/lidar.yaml).
+// The documented LiDAR settings (README, launch/lidar.launch).
 Params lidarParams() {
   Params params;
   params.r_xy = 0.3;

@@ -101,9 +101,7 @@ const Input& lidarScan() {
     const auto scan = hope::synthetic::scanWithLidar(hope::synthetic::lidarStreet(),
                                                      hope::synthetic::LidarModel::hdl64(),
                                                      hope::synthetic::lidarStreetPose());
-    for (const Eigen::Vector3f& p : scan.points) in.cloud->push_back({p.x(), p.y(), p.z()});
-    in.cloud->width = static_cast<std::uint32_t>(scan.columns);
-    in.cloud->height = static_cast<std::uint32_t>(scan.rings);
+    *in.cloud = scan.toCloud();
     in.pose = hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero());
     in.params.r_xy = 0.3;
     in.params.r_z = 0.1;

@@ -28,17 +28,6 @@ Params lidarParams() {
   return params;
 }
 
-pcl::PointCloud<pcl::PointXYZ> toCloud(const LidarScan& scan) {
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  cloud.width = static_cast<std::uint32_t>(scan.columns);
-  cloud.height = static_cast<std::uint32_t>(scan.rings);
-  cloud.is_dense = false;
-  for (const Eigen::Vector3f& p : scan.points) cloud.push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
-  cloud.width = static_cast<std::uint32_t>(scan.columns);
-  cloud.height = static_cast<std::uint32_t>(scan.rings);
-  return cloud;
-}
-
 struct LidarRun {
   LidarScan scan;
   Result result;
@@ -58,7 +47,7 @@ LidarRun runLidar(const synthetic::Scene& scene, const LidarModel& model,
   LidarRun run;
   run.scan = synthetic::scanWithLidar(scene, model, pose);
   Extractor extractor(params);
-  run.result = extractor.extract(toCloud(run.scan),
+  run.result = extractor.extract(run.scan.toCloud(),
                                  Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()));
   run.ranges = evaluation::horizontalRanges(run.scan.points);
   return run;

@@ -171,10 +171,10 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
     if (!(std::fabs(line.squaredNorm() - 1.0f) < 1e-3f)) continue;
 
     // Inward first: the nearer ring is the shorter walk, and a level link there settles it.
-    Link best;
+    Eigen::Vector3f best = Eigen::Vector3f::Zero();  // the most level normal found
     bool any = false;
     for (const Eigen::Vector2d& dir : {Eigen::Vector2d(-outward), outward}) {
-      if (any && best.normal.z() > candidate_bound) break;
+      if (any && best.z() > candidate_bound) break;
       const double reach = std::min({kMaxGapShare * range, kMaxWalkCells * r_xy,
                                      dir.dot(outward) > 0 ? HUGE_VAL : range - r_xy});
       std::uint32_t u = 0;
@@ -185,13 +185,13 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
       n.normalize();
       if (n.z() < 0) n = -n;
       if (n.z() > candidate_bound) links.emplace_back(static_cast<std::uint32_t>(v), u);
-      if (!any || n.z() > best.normal.z()) {
-        best = {u, n};
+      if (!any || n.z() > best.z()) {
+        best = n;
         any = true;
       }
     }
     if (!any) continue;
-    normals[v] = best.normal;
+    normals[v] = best;
     ++bridged;
   }
   return bridged;

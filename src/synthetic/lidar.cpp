@@ -52,6 +52,16 @@ LidarModel LidarModel::byName(const std::string& name) {
   throw std::invalid_argument("unknown LiDAR model '" + name + "' (choose vlp16, hdl64 or os128)");
 }
 
+pcl::PointCloud<pcl::PointXYZ> LidarScan::toCloud() const {
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  cloud.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) cloud.push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  cloud.width = static_cast<std::uint32_t>(columns);
+  cloud.height = static_cast<std::uint32_t>(rings);
+  cloud.is_dense = false;
+  return cloud;
+}
+
 LidarScan scanWithLidar(const Scene& scene, const LidarModel& model,
                         const Eigen::Isometry3d& sensor_pose, std::uint32_t seed) {
   LidarScan scan;

@@ -172,11 +172,7 @@ void writePicture(const std::string& path, const Input& in, const std::vector<in
 Input fromLidar(const std::string& name, const hope::synthetic::LidarScan& scan) {
   Input in;
   in.name = name;
-  for (const Eigen::Vector3f& p : scan.points)
-    in.cloud.push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
-  in.cloud.width = static_cast<std::uint32_t>(scan.columns);
-  in.cloud.height = static_cast<std::uint32_t>(scan.rings);
-  in.cloud.is_dense = false;
+  in.cloud = scan.toCloud();
   in.points = scan.points;
   in.truth = scan.labels;
   in.viewpoint = Eigen::Vector3d::Zero();  // the scan is in the sensor's frame

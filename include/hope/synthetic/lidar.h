@@ -44,6 +44,8 @@ struct LidarScan {
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();  // sensor in the world
 
   bool valid(std::size_t i) const { return points[i].allFinite(); }
+  // The points as a driver publishes them: organized rings × columns, NaN without a return.
+  pcl::PointCloud<pcl::PointXYZ> toCloud() const;
 };
 
 // Casts every beam of one revolution from `sensor_pose` (world frame, z up).

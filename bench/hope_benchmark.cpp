@@ -22,13 +22,13 @@
 #include <pcl/search/kdtree.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "../src/ros/cloud_conversion.h"
 #include "hope/depth_image.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
+#include "hope_ros/cloud_conversion.h"
 
 namespace {
 

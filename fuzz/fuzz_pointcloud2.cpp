@@ -5,9 +5,9 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "../src/ros/cloud_conversion.h"
 #include "fuzz_input.h"
 #include "hope/extractor.h"
+#include "hope_ros/cloud_conversion.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hope::fuzz::Input in(data, size);

@@ -11,3 +11,6 @@ bash scripts/build.sh
 export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
 # Google Benchmark's own header carries the date, the command and the machine.
 ./build/devel/lib/hope/hope_benchmark "$@" 2>&1 | tee docs/benchmark_latest.txt
+# The Python binding's cost over the C++ call, same machine, same run.
+PYTHONPATH=$root/build/devel/lib/python3/dist-packages /usr/bin/python3 bench/python_overhead.py \
+  2>&1 | tee -a docs/benchmark_latest.txt

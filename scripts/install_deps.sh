@@ -16,6 +16,7 @@ packages=(
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
   libvisualization-msgs-dev rviz xvfb imagemagick
   libgtest-dev libbenchmark-dev clang-format
+  pybind11-dev python3-dev python3-numpy python3-setuptools  # the Python bindings
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
 )
 

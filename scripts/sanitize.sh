@@ -12,15 +12,20 @@ out=$root/build_asan
 flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -Wno-maybe-uninitialized"
 cmake -S "$root" -B "$out" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
 cmake --build "$out" -j2 >/dev/null
 cmake --build "$out" -j2 --target tests >/dev/null
 export ROS_HOSTNAME=localhost ROS_HOME="$out/ros_home" ROS_LOG_DIR="$out/ros_home/log"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 asan_runtime=$(gcc -print-file-name=libasan.so)
 cd "$out"
+# The downstream test installs and builds against the install space; an instrumented install
+# is no use to an uninstrumented downstream build, so it runs in the ordinary suite only.
 echo "== unit tests under ASan + UBSan"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure -E rostest
-echo "== rostests under ASan + UBSan (runtime preloaded into the ROS processes)"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure \
+  -E "rostest|python_bindings|downstream_install"
+echo "== rostests and the Python bindings under ASan + UBSan (runtime preloaded into the ROS"
+echo "   processes and the Python interpreter)"
 LD_PRELOAD=$asan_runtime ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0 \
-  ctest --output-on-failure -R rostest
+  ctest --output-on-failure -R "rostest|python_bindings"

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../src/ros/cloud_conversion.h"
+#include "hope_ros/cloud_conversion.h"
 
 namespace hope {
 namespace test {

@@ -1,4 +1,4 @@
-#include "cloud_conversion.h"
+#include "hope_ros/cloud_conversion.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include <geometry_msgs/Point32.h>
 
-#include "hope/tools/overlay.h"
+#include "hope/plane_colors.h"
 
 namespace hope_ros {
 
@@ -19,11 +19,11 @@ const sensor_msgs::PointField* field(const sensor_msgs::PointCloud2& cloud, cons
 }
 
 std_msgs::ColorRGBA colorOf(int id, float alpha) {
-  const cv::Vec3b bgr = hope::tools::planeColor(id);
+  const hope::Rgb rgb = hope::planeColor(id);
   std_msgs::ColorRGBA c;
-  c.r = bgr[2] / 255.f;
-  c.g = bgr[1] / 255.f;
-  c.b = bgr[0] / 255.f;
+  c.r = rgb.r / 255.f;
+  c.g = rgb.g / 255.f;
+  c.b = rgb.b / 255.f;
   c.a = alpha;
   return c;
 }
@@ -179,8 +179,11 @@ sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligne
     std::memcpy(p, q.data(), 12);
     const int index = i < result.point_labels.size() ? result.point_labels[i] : -1;
     const int id = index >= 0 ? result.planes[index].id : -1;
-    const cv::Vec3b bgr = id >= 0 ? hope::tools::planeColor(id) : cv::Vec3b(128, 128, 128);
-    const std::uint32_t rgb = (std::uint32_t(bgr[2]) << 16) | (std::uint32_t(bgr[1]) << 8) | bgr[0];
+    hope::Rgb color;
+    color.r = color.g = color.b = 128;  // grey: on no plane
+    if (id >= 0) color = hope::planeColor(id);
+    const std::uint32_t rgb =
+        (std::uint32_t(color.r) << 16) | (std::uint32_t(color.g) << 8) | color.b;
     std::memcpy(p + 12, &rgb, 4);
     const std::uint32_t label = id >= 0 ? static_cast<std::uint32_t>(id + 1) : 0u;
     std::memcpy(p + 16, &label, 4);

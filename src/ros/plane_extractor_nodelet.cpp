@@ -24,11 +24,11 @@
 #include <boost/thread/recursive_mutex.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
-#include "cloud_conversion.h"
 #include "hope/HopeConfig.h"
 #include "hope/PlaneArray.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope_ros/cloud_conversion.h"
 
 namespace hope_ros {
 

@@ -256,8 +256,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    std::filesystem::create_directories(out_dir);
     if (!lidar.empty()) {
-      std::filesystem::create_directories(out_dir);
       writeLidar(out_dir, lidar, lidar_scene, !unorganized);
     } else if (sequence.empty()) {
       writeDemo(out_dir);

@@ -10,18 +10,14 @@ namespace hope {
 namespace tools {
 
 cv::Vec3b vocColor(int index) {
-  int r = 0, g = 0, b = 0;
-  int c = index;
-  for (int bit = 7; bit >= 0 && c > 0; --bit) {
-    r |= (c & 1) << bit;
-    g |= ((c >> 1) & 1) << bit;
-    b |= ((c >> 2) & 1) << bit;
-    c >>= 3;
-  }
-  return cv::Vec3b(static_cast<uchar>(b), static_cast<uchar>(g), static_cast<uchar>(r));
+  const Rgb c = hope::vocColor(index);
+  return cv::Vec3b(c.b, c.g, c.r);
 }
 
-cv::Vec3b planeColor(int id) { return vocColor((id % 255 + 255) % 255 + 1); }
+cv::Vec3b planeColor(int id) {
+  const Rgb c = hope::planeColor(id);
+  return cv::Vec3b(c.b, c.g, c.r);
+}
 
 namespace {
 

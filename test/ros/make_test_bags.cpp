@@ -19,10 +19,10 @@
 #include <tf2_msgs/TFMessage.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "../../src/ros/cloud_conversion.h"
 #include "hope/depth_image.h"
 #include "hope/gravity_alignment.h"
 #include "hope/synthetic/scene.h"
+#include "hope_ros/cloud_conversion.h"
 
 namespace {
 

@@ -9,16 +9,13 @@
 #include <opencv2/core.hpp>
 
 #include "hope/extractor.h"
+#include "hope/plane_colors.h"
 
 namespace hope {
 namespace tools {
 
-// The Pascal VOC colour map entry `index` as BGR (index 0 is the black background, so plane
-// id k uses index k + 1).
+// hope::vocColor / hope::planeColor (plane_colors.h) as OpenCV's BGR.
 cv::Vec3b vocColor(int index);
-
-// The colour of plane id `id` everywhere (pictures, RViz): VOC entry id + 1, wrapping after
-// 255 ids so that large ids still get a colour (never the black background).
 cv::Vec3b planeColor(int id);
 
 // For an organized cloud shaped like an image (at most 4 times wider than high): the image

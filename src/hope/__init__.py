@@ -1,0 +1,32 @@
+"""HoPE, the horizontal plane extractor, from Python.
+
+    import numpy as np, hope
+    extractor = hope.Extractor(r_xy=0.05, r_z=0.02)
+    result = extractor.extract(points, quaternion=(qx, qy, qz, qw))  # N x 3 or H x W x 3
+    for plane in result.planes:
+        print(plane.id, plane.height, plane.area)
+    result.labels  # per point: index into result.planes, -1 for none
+
+The C++ core does the work (the GIL is released meanwhile); float32 arrays whose points are
+evenly spaced in memory are read in place. hope.msg holds the ROS messages.
+"""
+
+from hope._hope import (  # noqa: F401  (re-exported)
+    Extractor,
+    ExtractionResult,
+    Plane,
+    PlaneTracker,
+    TrackEvent,
+    depth_to_cloud,
+    plane_color,
+)
+
+__all__ = [
+    "Extractor",
+    "ExtractionResult",
+    "Plane",
+    "PlaneTracker",
+    "TrackEvent",
+    "depth_to_cloud",
+    "plane_color",
+]

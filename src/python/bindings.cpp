@@ -1,0 +1,475 @@
+// Python bindings of the core (module hope._hope, re-exported by the package hope): the
+// extractor, the tracker and the depth-image path, taking and returning NumPy arrays. Uses
+// only pybind11 APIs present in 2.4 (Ubuntu 20.04, ROS Noetic).
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "hope/depth_image.h"
+#include "hope/extractor.h"
+#include "hope/plane_colors.h"
+#include "hope/plane_tracker.h"
+
+namespace py = pybind11;
+
+namespace {
+
+// What Extractor.extract returns: the core's result and the per-point labels as an array
+// that owns the core's label vector (no copy).
+struct ExtractionResult {
+  hope::Result result;
+  py::array labels;
+};
+
+std::string shapeText(const py::array& array) {
+  std::ostringstream out;
+  out << "(";
+  for (py::ssize_t d = 0; d < array.ndim(); ++d) out << (d ? ", " : "") << array.shape(d);
+  out << (array.ndim() == 1 ? ",)" : ")");
+  return out.str();
+}
+
+std::string dtypeText(const py::array& array) { return py::str(array.attr("dtype")); }
+
+// A NumPy array that owns `values` (moved to the heap), shaped `shape`.
+template <class T>
+py::array ownedArray(std::vector<T>&& values, const std::vector<py::ssize_t>& shape) {
+  auto* owned = new std::vector<T>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  std::vector<py::ssize_t> strides(shape.size(), sizeof(T));
+  for (std::size_t d = shape.size(); d-- > 1;) strides[d - 1] = strides[d] * shape[d];
+  return py::array_t<T>(shape, strides, owned->data(), owner);
+}
+
+std::vector<double> numbers(const py::object& value, std::size_t count, const char* name,
+                            const char* meaning) {
+  std::vector<double> out;
+  try {
+    out = value.cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + " must be a sequence of " + std::to_string(count) +
+                         " numbers " + meaning);
+  }
+  if (out.size() != count) {
+    throw py::value_error(std::string(name) + " must have " + std::to_string(count) + " numbers " +
+                          meaning + ", got " + std::to_string(out.size()));
+  }
+  return out;
+}
+
+// At most one of gravity, quaternion, pose, transform; none means the cloud is already z-up.
+hope::Orientation orientationOf(const py::object& gravity, const py::object& quaternion,
+                                const py::object& pose, const py::object& transform,
+                                const py::object& viewpoint) {
+  const int given =
+      !gravity.is_none() + !quaternion.is_none() + !pose.is_none() + !transform.is_none();
+  if (given > 1) {
+    throw py::value_error(
+        "give at most one of gravity, quaternion, pose and transform (the sensor's orientation)");
+  }
+  hope::Orientation orientation = hope::Orientation::identity();
+  if (!gravity.is_none()) {
+    const auto g = numbers(gravity, 3, "gravity", "(the accelerometer at rest, sensor frame)");
+    orientation = hope::Orientation::fromGravity(g[0], g[1], g[2]);
+  } else if (!quaternion.is_none()) {
+    const auto q = numbers(quaternion, 4, "quaternion", "(x, y, z, w)");
+    orientation = hope::Orientation::fromQuaternion(q[0], q[1], q[2], q[3]);
+  } else if (!pose.is_none()) {
+    const auto p = numbers(pose, 7, "pose", "(tx, ty, tz, qx, qy, qz, qw)");
+    orientation = hope::Orientation::fromPose(p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
+  } else if (!transform.is_none()) {
+    Eigen::Matrix4d m;
+    try {
+      m = transform.cast<Eigen::Matrix4d>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("transform must be a 4 x 4 matrix (sensor to reference frame)");
+    }
+    if (!m.allFinite()) throw py::value_error("transform has NaN or infinite entries");
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.matrix().topRows<3>() = m.topRows<3>();
+    orientation = hope::Orientation::fromTransform(t);
+  }
+  if (!viewpoint.is_none()) {
+    const auto v = numbers(viewpoint, 3, "viewpoint", "(the sensor's position, reference frame)");
+    orientation = orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
+  }
+  return orientation;
+}
+
+// The points of an N x 3 or H x W x 3 array, read in place when they are float32 and evenly
+// spaced in memory; otherwise converted into `converted` (float64, strided views...).
+hope::PointsView pointsOf(const py::array& points, py::array& converted) {
+  const py::ssize_t ndim = points.ndim();
+  if (!((ndim == 2 || ndim == 3) && points.shape(ndim - 1) == 3)) {
+    throw py::value_error("points must have shape (N, 3) or (H, W, 3), got " + shapeText(points));
+  }
+  const bool is_float32 = py::isinstance<py::array_t<float>>(points);
+  if (!is_float32 && !py::isinstance<py::array_t<double>>(points)) {
+    throw py::type_error("points must be float32 or float64, got " + dtypeText(points));
+  }
+  const std::size_t height = ndim == 3 ? static_cast<std::size_t>(points.shape(0)) : 1;
+  const std::size_t width = static_cast<std::size_t>(points.shape(ndim - 2));
+  if (height * width == 0) {
+    throw py::value_error("points is empty (shape " + shapeText(points) + "): nothing to extract");
+  }
+  if (height * width > std::numeric_limits<std::uint32_t>::max()) {
+    throw py::value_error("points has more than 2^32 - 1 points");
+  }
+  const py::ssize_t coordinate_step = points.strides(ndim - 1);
+  const py::ssize_t point_step = points.strides(ndim - 2);
+  const bool rows_follow =
+      ndim == 2 || height == 1 || points.strides(0) == point_step * static_cast<py::ssize_t>(width);
+  const py::array* source = &points;
+  if (!(is_float32 && coordinate_step > 0 && point_step > 0 && rows_follow)) {
+    converted = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(points);
+    if (!converted) throw py::error_already_set();
+    source = &converted;
+  }
+  hope::PointsView view;
+  view.data = static_cast<const std::uint8_t*>(source->data());
+  view.count = height * width;
+  view.stride = static_cast<std::size_t>(source->strides(ndim - 2));
+  view.x_offset = 0;
+  view.y_offset = static_cast<std::size_t>(source->strides(ndim - 1));
+  view.z_offset = 2 * view.y_offset;
+  view.width = static_cast<std::uint32_t>(width);
+  view.height = static_cast<std::uint32_t>(height);
+  return view;
+}
+
+// The Python-facing extractor: one core Extractor (it reuses its buffers between calls) and a
+// lock, since the GIL is released while it runs.
+class PyExtractor {
+ public:
+  explicit PyExtractor(const hope::Params& params) : extractor_(params) {}
+
+  ExtractionResult extract(const py::array& points, const py::object& gravity,
+                           const py::object& quaternion, const py::object& pose,
+                           const py::object& transform, const py::object& viewpoint) {
+    const hope::Orientation orientation =
+        orientationOf(gravity, quaternion, pose, transform, viewpoint);
+    py::array converted;
+    const hope::PointsView view = pointsOf(points, converted);
+    ExtractionResult out;
+    {
+      py::gil_scoped_release released;
+      std::lock_guard<std::mutex> lock(mutex_);
+      out.result = extractor_.extract(view, orientation);
+    }
+    if (out.result.finite_points == 0) {
+      throw py::value_error("points has no finite point (all " +
+                            std::to_string(out.result.input_points) + " are NaN or infinite)");
+    }
+    std::vector<py::ssize_t> shape;
+    if (points.ndim() == 3)
+      shape = {points.shape(0), points.shape(1)};
+    else
+      shape = {points.shape(0)};
+    out.labels = ownedArray(std::move(out.result.point_labels), shape);
+    out.result.point_labels.clear();
+    return out;
+  }
+
+  const hope::Params& params() const { return extractor_.params(); }
+
+ private:
+  hope::Extractor extractor_;
+  std::mutex mutex_;
+};
+
+py::array rows(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> flat;
+  flat.reserve(points.size() * 3);
+  for (const Eigen::Vector3d& p : points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  return ownedArray(std::move(flat), {static_cast<py::ssize_t>(points.size()), 3});
+}
+
+py::list outlineOf(const hope::HorizontalPlane& plane) {
+  py::list rings;
+  for (const auto& ring : plane.outline) rings.append(rows(ring));
+  return rings;
+}
+
+// Every field of hope_extract's JSON output for one plane.
+py::dict planeDict(const hope::HorizontalPlane& p) {
+  py::dict d;
+  d["id"] = p.id;
+  d["height"] = p.height;
+  d["bbox"] = py::make_tuple(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3]);
+  d["centroid"] = py::make_tuple(p.centroid.x(), p.centroid.y(), p.centroid.z());
+  d["normal"] = py::make_tuple(p.normal.x(), p.normal.y(), p.normal.z());
+  d["tilt"] = p.tilt;
+  d["area"] = p.area;
+  d["num_points"] = p.num_points;
+  d["num_voxels"] = p.num_voxels;
+  d["num_parts"] = p.num_parts;
+  d["facing"] = hope::toString(p.facing);
+  d["age"] = p.age;
+  d["last_seen"] = p.last_seen;
+  d["split_from"] = p.split_from;
+  d["hull"] = rows(p.hull);
+  d["outline"] = outlineOf(p);
+  return d;
+}
+
+py::dict statsOf(const hope::Result& r) {
+  py::dict d;
+  d["input_points"] = r.input_points;
+  d["finite_points"] = r.finite_points;
+  d["voxels"] = r.voxels;
+  d["candidates"] = r.candidates;
+  d["clusters"] = r.clusters;
+  d["rejected_by_refinement"] = r.rejected_by_refinement;
+  d["rejected_by_band_or_area"] = r.rejected_by_band_or_area;
+  d["merged_fragments"] = r.merged_fragments;
+  d["bridged_voxels"] = r.bridged_voxels;
+  return d;
+}
+
+py::dict timingsOf(const hope::Result& r) {
+  const hope::StageTimings& t = r.timings;
+  py::dict d;
+  d["alignment"] = t.alignment_ms;
+  d["grid_filter"] = t.grid_filter_ms;
+  d["normals"] = t.normals_ms;
+  d["candidates"] = t.candidates_ms;
+  d["clustering"] = t.clustering_ms;
+  d["refinement"] = t.refinement_ms;
+  d["description"] = t.description_ms;
+  d["merging"] = t.merging_ms;
+  d["total"] = t.total_ms;
+  return d;
+}
+
+std::string planeRepr(const hope::HorizontalPlane& p) {
+  char text[160];
+  std::snprintf(text, sizeof(text), "Plane(id=%d, height=%.3f, area=%.3f, num_points=%zu)", p.id,
+                p.height, p.area, p.num_points);
+  return text;
+}
+
+std::unique_ptr<PyExtractor> makeExtractor(double r_xy, double r_z, double normal_radius_factor,
+                                           int min_cluster_voxels, double min_height,
+                                           double max_height, double min_area, bool merge_fragments,
+                                           double max_merge_gap, bool bridge_scan_gaps) {
+  hope::Params p;
+  p.r_xy = r_xy;
+  p.r_z = r_z;
+  p.normal_radius_factor = normal_radius_factor;
+  p.min_cluster_voxels = min_cluster_voxels;
+  p.min_height = min_height;
+  p.max_height = max_height;
+  p.min_area = min_area;
+  p.merge_fragments = merge_fragments;
+  p.max_merge_gap = max_merge_gap;
+  p.bridge_scan_gaps = bridge_scan_gaps;
+  // The core validates: its std::invalid_argument, naming the parameter, becomes ValueError.
+  return std::make_unique<PyExtractor>(p);
+}
+
+py::array depthToCloud(const py::array& depth, const py::object& intrinsics, double scale) {
+  if (depth.ndim() != 2) {
+    throw py::value_error("depth must be a 2-D image (H, W), got shape " + shapeText(depth));
+  }
+  int type = 0;
+  py::array image;
+  if (py::isinstance<py::array_t<std::uint16_t>>(depth)) {
+    type = CV_16UC1;
+    image = py::array_t<std::uint16_t, py::array::c_style>::ensure(depth);
+  } else if (py::isinstance<py::array_t<float>>(depth)) {
+    type = CV_32FC1;
+    image = py::array_t<float, py::array::c_style>::ensure(depth);
+  } else {
+    throw py::type_error(
+        "depth must be uint16 (raw units, `scale` per metre) or float32 (metres), got " +
+        dtypeText(depth));
+  }
+  const auto k = numbers(intrinsics, 4, "intrinsics", "(fx, fy, cx, cy)");
+  const cv::Mat mat(static_cast<int>(depth.shape(0)), static_cast<int>(depth.shape(1)), type,
+                    const_cast<void*>(image.data()));
+  auto cloud = std::make_unique<pcl::PointCloud<pcl::PointXYZ>>(
+      hope::depthToCloud(mat, hope::PinholeIntrinsics{k[0], k[1], k[2], k[3]}, scale));
+  // A view onto the cloud's points (x y z and PCL's padding float): H x W x 3, 16-byte steps,
+  // which Extractor.extract reads in place.
+  auto* owned = cloud.release();
+  py::capsule owner(owned, [](void* p) { delete static_cast<pcl::PointCloud<pcl::PointXYZ>*>(p); });
+  const py::ssize_t h = depth.shape(0), w = depth.shape(1);
+  const py::ssize_t step = sizeof(pcl::PointXYZ);
+  return py::array_t<float>({h, w, py::ssize_t(3)}, {w * step, step, py::ssize_t(sizeof(float))},
+                            &owned->points[0].x, owner);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_hope, m) {
+  m.doc() = "HoPE: horizontal plane extraction (Dong et al., Sensors 2018), the C++ core";
+
+  py::class_<hope::HorizontalPlane>(m, "Plane", "One horizontal plane (reference frame, metres)")
+      .def_readwrite("id", &hope::HorizontalPlane::id)
+      .def_readwrite("height", &hope::HorizontalPlane::height)
+      .def_property_readonly(
+          "bbox",
+          [](const hope::HorizontalPlane& p) {
+            return py::make_tuple(p.bbox[0], p.bbox[1], p.bbox[2], p.bbox[3]);
+          },
+          "(x_min, y_min, x_max, y_max)")
+      .def_readonly("centroid", &hope::HorizontalPlane::centroid)
+      .def_readonly("normal", &hope::HorizontalPlane::normal)
+      .def_readonly("tilt", &hope::HorizontalPlane::tilt, "radians from the z axis")
+      .def_readonly("area", &hope::HorizontalPlane::area, "m² at grid resolution")
+      .def_readonly("num_voxels", &hope::HorizontalPlane::num_voxels)
+      .def_readonly("num_points", &hope::HorizontalPlane::num_points)
+      .def_readonly("num_parts", &hope::HorizontalPlane::num_parts)
+      .def_property_readonly(
+          "facing", [](const hope::HorizontalPlane& p) { return hope::toString(p.facing); })
+      .def_property_readonly(
+          "hull", [](const hope::HorizontalPlane& p) { return rows(p.hull); },
+          "K x 3, counter-clockwise seen from above")
+      .def_property_readonly(
+          "outline", &outlineOf,
+          "rings (K x 3): counter-clockwise around parts, clockwise around holes")
+      .def_readonly("mean_normal_tilt", &hope::HorizontalPlane::mean_normal_tilt)
+      .def_readonly("group_angle", &hope::HorizontalPlane::group_angle)
+      .def_readonly("age", &hope::HorizontalPlane::age)
+      .def_readonly("last_seen", &hope::HorizontalPlane::last_seen)
+      .def_readonly("split_from", &hope::HorizontalPlane::split_from)
+      .def("to_dict", &planeDict, "every field of hope_extract's JSON output")
+      .def("__repr__", &planeRepr);
+
+  py::class_<ExtractionResult>(m, "ExtractionResult")
+      .def_property(
+          "planes", [](const ExtractionResult& r) { return r.result.planes; },
+          [](ExtractionResult& r, const std::vector<hope::HorizontalPlane>& planes) {
+            r.result.planes = planes;
+          })
+      .def_readonly("labels", &ExtractionResult::labels,
+                    "int32 per point (N or H x W): index into planes, -1 for none")
+      .def_property_readonly("stats", [](const ExtractionResult& r) { return statsOf(r.result); })
+      .def_property_readonly("timings_ms",
+                             [](const ExtractionResult& r) { return timingsOf(r.result); })
+      .def_property_readonly("warnings",
+                             [](const ExtractionResult& r) { return r.result.warnings; })
+      .def_property_readonly(
+          "sensor_to_reference",
+          [](const ExtractionResult& r) -> Eigen::Matrix4d {
+            return r.result.sensor_to_reference.matrix();
+          },
+          "4 x 4, the transform applied to the points")
+      .def(
+          "to_dict",
+          [](const ExtractionResult& r) {
+            py::dict d;
+            py::list planes;
+            for (const auto& p : r.result.planes) planes.append(planeDict(p));
+            d["planes"] = planes;
+            d["stats"] = statsOf(r.result);
+            d["warnings"] = r.result.warnings;
+            d["timings_ms"] = timingsOf(r.result);
+            return d;
+          },
+          "the structure of hope_extract's JSON output")
+      .def("__len__", [](const ExtractionResult& r) { return r.result.planes.size(); })
+      .def("__repr__", [](const ExtractionResult& r) {
+        return "ExtractionResult(" + std::to_string(r.result.planes.size()) + " planes, " +
+               std::to_string(r.result.finite_points) + " finite points)";
+      });
+
+  const hope::Params defaults;
+  py::class_<PyExtractor>(m, "Extractor",
+                          "The HoPE pipeline; reuses its buffers, so keep one per stream")
+      .def(py::init(&makeExtractor), py::arg("r_xy") = defaults.r_xy, py::arg("r_z") = defaults.r_z,
+           py::arg("normal_radius_factor") = defaults.normal_radius_factor,
+           py::arg("min_cluster_voxels") = defaults.min_cluster_voxels,
+           py::arg("min_height") = defaults.min_height, py::arg("max_height") = defaults.max_height,
+           py::arg("min_area") = defaults.min_area,
+           py::arg("merge_fragments") = defaults.merge_fragments,
+           py::arg("max_merge_gap") = defaults.max_merge_gap,
+           py::arg("bridge_scan_gaps") = defaults.bridge_scan_gaps)
+      .def("extract", &PyExtractor::extract, py::arg("points"), py::arg("gravity") = py::none(),
+           py::arg("quaternion") = py::none(), py::arg("pose") = py::none(),
+           py::arg("transform") = py::none(), py::arg("viewpoint") = py::none(),
+           "points: N x 3 or H x W x 3 float32/float64 in the sensor frame. Orientation: at "
+           "most one of gravity (accelerometer, 3), quaternion (x y z w), pose (tx ty tz qx qy "
+           "qz qw) or transform (4 x 4); none = already z-up. viewpoint: the sensor's position.")
+      .def_property_readonly("r_xy", [](const PyExtractor& e) { return e.params().r_xy; })
+      .def_property_readonly("r_z", [](const PyExtractor& e) { return e.params().r_z; });
+
+  py::class_<hope::TrackEvent>(m, "TrackEvent")
+      .def_property_readonly("kind",
+                             [](const hope::TrackEvent& e) { return hope::toString(e.kind); })
+      .def_readonly("id", &hope::TrackEvent::id)
+      .def_readonly("other_id", &hope::TrackEvent::other_id)
+      .def("__repr__", [](const hope::TrackEvent& e) {
+        return std::string("TrackEvent(") + hope::toString(e.kind) +
+               ", id=" + std::to_string(e.id) + ", other_id=" + std::to_string(e.other_id) + ")";
+      });
+
+  const hope::TrackerOptions tracker_defaults;
+  py::class_<hope::PlaneTracker>(m, "PlaneTracker", "Persistent plane ids across frames")
+      .def(py::init([](const std::string& mode, double max_height_change, double max_xy_gap,
+                       double height_scale, double xy_scale, double max_match_cost,
+                       int max_missed_frames, double merge_split_overlap) {
+             hope::TrackerOptions o;
+             o.mode = hope::trackingModeFromString(mode);
+             o.max_height_change = max_height_change;
+             o.max_xy_gap = max_xy_gap;
+             o.height_scale = height_scale;
+             o.xy_scale = xy_scale;
+             o.max_match_cost = max_match_cost;
+             o.max_missed_frames = max_missed_frames;
+             o.merge_split_overlap = merge_split_overlap;
+             return hope::PlaneTracker(o);  // validates: ValueError naming the option
+           }),
+           py::arg("mode") = std::string(hope::toString(tracker_defaults.mode)),
+           py::arg("max_height_change") = tracker_defaults.max_height_change,
+           py::arg("max_xy_gap") = tracker_defaults.max_xy_gap,
+           py::arg("height_scale") = tracker_defaults.height_scale,
+           py::arg("xy_scale") = tracker_defaults.xy_scale,
+           py::arg("max_match_cost") = tracker_defaults.max_match_cost,
+           py::arg("max_missed_frames") = tracker_defaults.max_missed_frames,
+           py::arg("merge_split_overlap") = tracker_defaults.merge_split_overlap)
+      .def(
+          "update",
+          [](hope::PlaneTracker& t, ExtractionResult& r, double stamp) {
+            return t.update(r.result.planes, stamp);
+          },
+          py::arg("result"), py::arg("stamp"),
+          "gives result's planes their persistent ids (in place); returns the events")
+      .def(
+          "update",
+          [](hope::PlaneTracker& t, std::vector<hope::HorizontalPlane> planes, double stamp) {
+            auto events = t.update(planes, stamp);
+            return py::make_tuple(planes, events);
+          },
+          py::arg("planes"), py::arg("stamp"), "returns (planes with persistent ids, events)")
+      .def("lost_planes", &hope::PlaneTracker::lostPlanes)
+      .def("reset", &hope::PlaneTracker::reset)
+      .def_property_readonly(
+          "mode", [](const hope::PlaneTracker& t) { return hope::toString(t.options().mode); });
+
+  m.def("depth_to_cloud", &depthToCloud, py::arg("depth"), py::arg("intrinsics"),
+        py::arg("scale") = 5000.0,
+        "depth (H x W uint16 raw, `scale` units per metre, TUM 5000, OpenNI 1000; or float32 "
+        "metres) and intrinsics (fx, fy, cx, cy) -> H x W x 3 float32 points in the camera's "
+        "optical frame, NaN where there is no depth");
+  m.def(
+      "plane_color",
+      [](int id) {
+        const hope::Rgb c = hope::planeColor(id);
+        return py::make_tuple(c.r, c.g, c.b);
+      },
+      py::arg("id"), "(r, g, b) 0-255 of plane id, as in the pictures and RViz");
+}

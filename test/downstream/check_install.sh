@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# hope as another package sees it: installs the build into its install prefix (by default
+# build/install, see CMakeLists.txt), then, from that install space only: builds and runs a
+# small catkin package that links the core and hope_ros and loads the nodelet with pluginlib
+# (test/downstream/hope_downstream), imports the Python bindings and runs one extraction,
+# and checks every launch file with roslaunch-check. Run by ctest.
+# Usage: check_install.sh BUILD_DIR INSTALL_PREFIX
+set -euo pipefail
+export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+here=$(cd "$(dirname "$0")" && pwd)
+build=$(cd "$1" && pwd)
+prefix=$2
+case "$prefix" in
+  "$build"/*) ;;
+  *)
+    echo "SKIP: the install prefix $prefix lies outside the build tree $build; this test" \
+      "installs into it and runs only when it is a scratch folder there (the default)"
+    exit 77
+    ;;
+esac
+fail() {
+  echo "FAIL: $*"
+  exit 1
+}
+
+echo "== installing into $prefix"
+rm -rf "$prefix"
+cmake --install "$build" >"$build/check_install.log" 2>&1 || {
+  cat "$build/check_install.log"
+  fail "cmake --install"
+}
+for f in include/hope/extractor.h include/hope/plane_colors.h include/hope/synthetic/scene.h \
+  include/hope_ros/cloud_conversion.h lib/libhope_core.so lib/libhope_synthetic.so \
+  lib/libhope_ros.so lib/libhope_nodelet.so lib/hope/hope_extract lib/hope/hope_node \
+  share/hope/package.xml share/hope/nodelet_plugins.xml share/hope/msg/Plane.msg \
+  share/hope/config/hope.yaml share/hope/rviz/hope.rviz share/hope/cmake/hopeConfig.cmake \
+  setup.bash; do
+  [ -e "$prefix/$f" ] || fail "$f is not installed"
+done
+# Private to the package: the tools' and the evaluation's headers (their libraries are
+# static and not exported).
+for f in include/hope/tools include/hope/evaluation lib/libhope_io.so lib/libhope_evaluation.so; do
+  [ ! -e "$prefix/$f" ] || fail "$f is installed but not exported"
+done
+
+set +u
+# shellcheck disable=SC1091
+source "$prefix/setup.bash"
+set -u
+[ "$(rospack find hope)" = "$prefix/share/hope" ] || fail "rospack finds hope at $(rospack find hope)"
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+echo "== a downstream catkin package against the install space"
+cp -r "$here/hope_downstream" "$work/"
+cmake -S "$work/hope_downstream" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
+  -DPYTHON_EXECUTABLE=/usr/bin/python3 >"$work/configure.log" 2>&1 || {
+  cat "$work/configure.log"
+  fail "configuring the downstream package"
+}
+cmake --build "$work/build" -j2 >"$work/build.log" 2>&1 || {
+  cat "$work/build.log"
+  fail "building the downstream package"
+}
+if grep -q "warning:" "$work/build.log"; then
+  cat "$work/build.log"
+  fail "warnings in the downstream build (hope's headers must compile cleanly with -Wall -Wextra)"
+fi
+"$work/build/devel/lib/hope_downstream/hope_downstream" "$prefix" || fail "the downstream program"
+
+echo "== Python from the install space"
+/usr/bin/python3 - "$prefix" <<'PYTHON' || fail "python"
+import sys
+
+import numpy as np
+
+import hope
+import hope.msg
+
+prefix = sys.argv[1]
+assert hope.__file__.startswith(prefix), hope.__file__
+assert hope.Extractor.__module__.startswith("hope"), hope.Extractor.__module__
+# A floor at 0 and a box top at 0.5 m (20 x 20 cm), 1 cm apart, seen from above.
+x, y = np.meshgrid(np.arange(0, 2, 0.01), np.arange(0, 2, 0.01))
+z = np.where((x >= 0.9) & (x < 1.1) & (y >= 0.9) & (y < 1.1), 0.5, 0.0)
+points = np.stack([x, y, z], -1).reshape(-1, 3)
+result = hope.Extractor().extract(points)
+heights = sorted(round(p.height, 4) for p in result.planes)
+print("python planes:", heights, "from", hope.__file__)
+assert heights == [0.0, 0.5], heights
+message = hope.msg.Plane()
+message.height = result.planes[0].height
+PYTHON
+
+echo "== launch files"
+export ROS_HOME="$work/ros_home"  # roslaunch-check writes a result file there
+for f in "$prefix"/share/hope/launch/*.launch; do
+  args=()
+  [ "$(basename "$f")" != tum.launch ] || args=(bag:=/tmp/a_tum_sequence.bag)  # required
+  /usr/bin/python3 /usr/share/roslaunch/scripts/roslaunch-check "$f" "${args[@]}" \
+    >"$work/check.log" 2>&1 || {
+    cat "$work/check.log"
+    fail "roslaunch-check $f"
+  }
+  roslaunch --files "$f" "${args[@]}" >/dev/null || fail "roslaunch --files $f"
+  echo "ok $(basename "$f")"
+done
+echo "OK: hope works from its install space"

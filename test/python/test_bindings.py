@@ -1,0 +1,225 @@
+#!/usr/bin/python3
+"""The Python bindings (import hope) against the demo room's ground truth and against the C++
+command-line tool on the same input. Run by ctest; needs HOPE_SYNTH_BIN and HOPE_EXTRACT_BIN
+(the built tools) and the bindings on PYTHONPATH."""
+
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+
+import cv2
+import numpy as np
+
+import hope
+
+TUM_FREIBURG1 = (517.3, 516.5, 318.6, 255.3)  # the demo camera's intrinsics (hope_synth)
+
+
+def read_truth(path):
+    """(height, name) of every plane the demo room holds, from hope_synth's truth.txt."""
+    surfaces = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            _, height, name = line.split(maxsplit=2)
+            surfaces.append((float(height), name.strip()))
+    return surfaces
+
+
+def read_pcd_labels(path):
+    """The `label` field of a PCD written by hope_extract --labels (ascii or binary)."""
+    with open(path, "rb") as f:
+        header = {}
+        while True:
+            line = f.readline().decode("ascii").strip()
+            key, _, value = line.partition(" ")
+            header[key] = value.split()
+            if key == "DATA":
+                break
+        body = f.read()
+    fields = header["FIELDS"]
+    types = {("F", "4"): "<f4", ("U", "4"): "<u4", ("I", "4"): "<i4"}
+    dtype = np.dtype([(name, types[(t, s)]) for name, t, s in
+                      zip(fields, header["TYPE"], header["SIZE"])])
+    count = int(header["POINTS"][0])
+    if header["DATA"][0] == "ascii":
+        rows = np.loadtxt(body.decode("ascii").splitlines(), ndmin=2)
+        return rows[:, fields.index("label")].astype(np.int64)
+    return np.frombuffer(body, dtype=dtype, count=count)["label"].astype(np.int64)
+
+
+class DemoRoom(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.dir = cls.tmp.name
+        subprocess.run([os.environ["HOPE_SYNTH_BIN"], "--out", cls.dir], check=True,
+                       stdout=subprocess.DEVNULL)
+        cls.depth = cv2.imread(os.path.join(cls.dir, "depth.png"), cv2.IMREAD_UNCHANGED)
+        with open(os.path.join(cls.dir, "pose.txt")) as f:
+            cls.pose = [float(v) for v in f.read().split()]
+        cls.truth = read_truth(os.path.join(cls.dir, "truth.txt"))
+        cls.points = hope.depth_to_cloud(cls.depth, TUM_FREIBURG1, 5000.0)
+        cls.result = hope.Extractor(r_xy=0.05, r_z=0.02).extract(cls.points, pose=cls.pose)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_depth_to_cloud_is_organized_metres(self):
+        self.assertEqual(self.depth.dtype, np.uint16)
+        self.assertEqual(self.points.shape, (480, 640, 3))
+        self.assertEqual(self.points.dtype, np.float32)
+        valid = self.depth > 0
+        # z (forward) is the depth in metres at every pixel with a depth, NaN elsewhere.
+        np.testing.assert_allclose(self.points[..., 2][valid], self.depth[valid] / 5000.0,
+                                   rtol=1e-6)
+        self.assertTrue(np.isnan(self.points[..., 2][~valid]).all())
+
+    def test_every_true_surface_is_one_plane_at_its_height(self):
+        heights = sorted(p.height for p in self.result.planes)
+        self.assertEqual(len(heights), len(self.truth), heights)
+        for true_height, name in self.truth:
+            nearest = min(heights, key=lambda h: abs(h - true_height))
+            self.assertLess(abs(nearest - true_height), 0.01, name)
+
+    def test_labels_are_per_pixel_and_count_each_planes_points(self):
+        labels = self.result.labels
+        self.assertEqual(labels.shape, (480, 640))
+        self.assertEqual(labels.dtype, np.int32)
+        for index, plane in enumerate(self.result.planes):
+            self.assertEqual(int((labels == index).sum()), plane.num_points)
+        self.assertTrue((labels[np.isnan(self.points[..., 2])] == -1).all())
+
+    def test_same_planes_and_labels_as_the_command_line_tool(self):
+        json_path = os.path.join(self.dir, "planes.json")
+        labels_path = os.path.join(self.dir, "labels.pcd")
+        subprocess.run([os.environ["HOPE_EXTRACT_BIN"], "--depth",
+                        os.path.join(self.dir, "depth.png"), "--pose",
+                        " ".join(repr(v) for v in self.pose), "--json", json_path,
+                        "--labels", labels_path, "--quiet"], check=True)
+        with open(json_path) as f:
+            cli = json.load(f)
+        ours = self.result.to_dict()
+        self.assertEqual(len(ours["planes"]), len(cli["planes"]))
+        self.assertEqual(set(ours["planes"][0]), set(cli["planes"][0]))  # every JSON field
+        for a, b in zip(ours["planes"], cli["planes"]):
+            self.assertEqual(a["id"], b["id"])
+            self.assertEqual(a["num_points"], b["num_points"])
+            self.assertEqual(a["num_voxels"], b["num_voxels"])
+            self.assertEqual(a["facing"], b["facing"])
+            # The JSON carries 6 significant digits.
+            for key in ("height", "bbox", "centroid", "normal", "area", "hull"):
+                np.testing.assert_allclose(a[key], np.array(b[key]), rtol=1e-5, atol=1e-6,
+                                           err_msg=key)
+        self.assertEqual(ours["stats"], cli["stats"])
+        # The CLI writes label k + 1 for plane id k, 0 for none.
+        cli_labels = read_pcd_labels(labels_path)
+        np.testing.assert_array_equal(self.result.labels.ravel().astype(np.int64) + 1, cli_labels)
+
+    def test_every_array_layout_gives_identical_planes(self):
+        # depth_to_cloud returns a float32 view with 16-byte points (read in place); a packed
+        # float32 copy is read in place too; float64 and Fortran order take the conversion
+        # path. The answer must not depend on the layout.
+        extractor = hope.Extractor()
+        for points in (np.ascontiguousarray(self.points), self.points.astype(np.float64),
+                       np.asfortranarray(self.points)):
+            other = extractor.extract(points, pose=self.pose)
+            self.assertEqual([p.num_points for p in other.planes],
+                             [p.num_points for p in self.result.planes])
+            self.assertEqual([p.height for p in other.planes],
+                             [p.height for p in self.result.planes])
+            np.testing.assert_array_equal(other.labels, self.result.labels)
+
+    def test_an_unorganized_copy_finds_the_same_surfaces(self):
+        # N x 3 drops the image layout (the scan-gap bridging then applies), so point counts
+        # may differ slightly; the surfaces and their heights may not.
+        finite = self.points.reshape(-1, 3)
+        finite = finite[np.isfinite(finite).all(axis=1)]
+        result = hope.Extractor().extract(finite, pose=self.pose)
+        self.assertEqual(result.labels.shape, (len(finite),))
+        heights = sorted(p.height for p in result.planes)
+        self.assertEqual(len(heights), len(self.truth), heights)
+        for true_height, name in self.truth:
+            self.assertLess(min(abs(h - true_height) for h in heights), 0.01, name)
+
+    def test_tracker_keeps_every_id_on_a_second_view(self):
+        for mode in ("improved", "paper"):
+            tracker = hope.PlaneTracker(mode=mode)
+            first = hope.Extractor().extract(self.points, pose=self.pose)
+            events = tracker.update(first, 0.0)
+            self.assertEqual(sorted(e.id for e in events if e.kind == "new"),
+                             list(range(len(self.truth))))
+            second = hope.Extractor().extract(self.points, pose=self.pose)
+            tracker.update(second, 1.0 / 30)
+            by_height = {round(p.height, 3): p.id for p in first.planes}
+            for plane in second.planes:
+                self.assertEqual(plane.id, by_height[round(plane.height, 3)], mode)
+                self.assertEqual(plane.age, 2)
+
+    def test_tracker_takes_a_list_of_planes(self):
+        tracker = hope.PlaneTracker()
+        planes, events = tracker.update(self.result.planes, 0.0)
+        self.assertEqual(len(planes), len(self.truth))
+        self.assertEqual(len(events), len(self.truth))
+
+
+class BadInput(unittest.TestCase):
+    def setUp(self):
+        self.extractor = hope.Extractor()
+        self.floor = np.stack(np.meshgrid(np.arange(0, 2, 0.01), np.arange(0, 2, 0.01)) +
+                              [np.zeros((200, 200))], -1).reshape(-1, 3).astype(np.float32)
+
+    def assertRaisesWith(self, error, text, call, *args, **kwargs):
+        with self.assertRaises(error) as caught:
+            call(*args, **kwargs)
+        self.assertIn(text, str(caught.exception))
+
+    def test_a_floor_is_found_at_zero(self):
+        result = self.extractor.extract(self.floor)
+        self.assertEqual(len(result.planes), 1)
+        self.assertAlmostEqual(result.planes[0].height, 0.0, delta=1e-6)
+        self.assertEqual(result.planes[0].num_points, len(self.floor))
+
+    def test_wrong_shape(self):
+        self.assertRaisesWith(ValueError, "(N, 3) or (H, W, 3), got (5, 4)",
+                              self.extractor.extract, np.zeros((5, 4), np.float32))
+        self.assertRaisesWith(ValueError, "got (12,)", self.extractor.extract,
+                              np.zeros(12, np.float32))
+
+    def test_wrong_dtype(self):
+        self.assertRaisesWith(TypeError, "float32 or float64, got int64",
+                              self.extractor.extract, np.zeros((5, 3), np.int64))
+
+    def test_empty(self):
+        self.assertRaisesWith(ValueError, "points is empty", self.extractor.extract,
+                              np.zeros((0, 3), np.float32))
+
+    def test_nan_only(self):
+        self.assertRaisesWith(ValueError, "no finite point (all 7 are NaN or infinite)",
+                              self.extractor.extract, np.full((7, 3), np.nan))
+
+    def test_bad_orientation(self):
+        self.assertRaisesWith(ValueError, "at most one of", self.extractor.extract, self.floor,
+                              gravity=(0, 0, 9.8), quaternion=(0, 0, 0, 1))
+        self.assertRaisesWith(ValueError, "quaternion must have 4 numbers",
+                              self.extractor.extract, self.floor, quaternion=(0, 0, 1))
+        self.assertRaisesWith(ValueError, "quaternion", self.extractor.extract, self.floor,
+                              quaternion=(0, 0, 0, 0))
+
+    def test_bad_parameters_name_the_parameter(self):
+        self.assertRaisesWith(ValueError, "r_xy", hope.Extractor, r_xy=-1.0)
+        self.assertRaisesWith(ValueError, "unknown tracking mode", hope.PlaneTracker, mode="nearest")
+
+    def test_plane_colours_are_the_voc_map(self):
+        # Plane id k takes Pascal VOC colour k + 1: (128, 0, 0), (0, 128, 0), (128, 128, 0).
+        self.assertEqual(hope.plane_color(0), (128, 0, 0))
+        self.assertEqual(hope.plane_color(1), (0, 128, 0))
+        self.assertEqual(hope.plane_color(2), (128, 128, 0))
+
+
+if __name__ == "__main__":
+    unittest.main()

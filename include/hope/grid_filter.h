@@ -5,20 +5,35 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace hope {
+
+// What the caller may already know about the points, to save the grid a pass or lookups.
+struct GridHints {
+  // Points per image row for an organized cloud (0: unorganized). The point one row up, which
+  // often shares the voxel, is then checked before the voxel table.
+  std::size_t row_width = 0;
+  // The box of the finite points and their number (alignToGravity computes both on its pass);
+  // without them build() reads the points once more to find them.
+  std::optional<Eigen::AlignedBox3f> finite_box;
+  std::size_t finite_points = 0;
+};
 
 class VoxelGrid {
  public:
   // Voxelizes the finite points of `aligned` (NaN entries are skipped). Throws
   // std::invalid_argument when the finite points span more than kMaxCellsPerAxis cells on
   // an axis (a unit mistake or a wild outlier; the message says which axis and how far).
-  void build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z);
+  // The result does not depend on the hints.
+  void build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z,
+             const GridHints& hints = GridHints());
 
   static constexpr std::int64_t kMaxCellsPerAxis = std::int64_t{1} << 21;
 
@@ -63,18 +78,33 @@ class VoxelGrid {
 
  private:
   std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
-  void sortByCounting(std::size_t num_columns, std::size_t nz);
-  void sortByComparison();
-  void collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool dense_columns);
+  // Pass 2 of build(): every finite point's voxel, numbered in order of first appearance
+  // (point_voxel_), with each voxel's key, point count and coordinate sums.
+  void assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned, std::size_t finite_points,
+                            std::uint64_t nz, std::size_t row_width);
+  std::uint32_t voxelOfKey(std::uint64_t key);
+  void growSlots();
+  // Pass 3: voxels renumbered in (column, z cell) order, their points listed in input order.
+  void orderVoxels(std::uint64_t nz, bool dense_columns);
 
   double r_xy_ = 0, r_z_ = 0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d extent_ = Eigen::Vector3d::Zero();
   std::uint64_t nx_ = 1, ny_ = 1;
 
-  // Scratch per finite point (reused across frames to avoid reallocations).
-  std::vector<std::uint32_t> finite_index_, point_iz_, scratch_;
-  std::vector<std::uint64_t> point_column_;
+  // Voxels in order of first appearance while points are assigned: key (column · nz + z cell),
+  // point count and coordinate sums (double, summed in input order); an open-addressing hash
+  // table from key to that number (kEmptySlot where free). Reused across frames.
+  std::vector<std::uint64_t> found_key_;
+  std::vector<std::uint32_t> found_count_;
+  std::vector<Eigen::Vector3d> found_sum_;
+  std::vector<std::uint64_t> slot_key_;
+  std::vector<std::uint32_t> slot_voxel_;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted_keys_;
+  std::vector<std::uint32_t> renumber_, cursor_, counts_, by_z_;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> row_above_;  // key, voxel per image column
+  static constexpr std::size_t kRecentVoxels = 4096;                // a power of two
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> recent_voxels_;  // key, voxel
 
   std::vector<std::uint32_t> point_order_;  // input indices sorted by voxel
   std::vector<std::int32_t> point_voxel_;

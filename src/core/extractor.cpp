@@ -51,10 +51,16 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   Stopwatch total, stage;
 
   result.local_origin = localOrigin(orientation);
-  result.finite_points = alignToGravity(cloud, orientation, aligned_, result.local_origin);
+  GridHints hints;
+  Eigen::AlignedBox3f finite_box;
+  result.finite_points =
+      alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box);
+  hints.finite_box = finite_box;
+  hints.finite_points = result.finite_points;
+  if (cloud.organized()) hints.row_width = cloud.width;
   result.timings.alignment_ms = stage.lap();
 
-  grid_.build(aligned_, params_.r_xy, params_.r_z);
+  grid_.build(aligned_, params_.r_xy, params_.r_z, hints);
   result.voxels = grid_.numVoxels();
   const Eigen::Vector3d extent = grid_.extent();
   // No indoor scene and few outdoor scans span a kilometre: such a cloud is almost always in

@@ -117,38 +117,67 @@ Eigen::Vector3d localOrigin(const Orientation& orientation) {
   return (t / 1024.0).array().round().matrix() * 1024.0;
 }
 
-std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
-                           std::vector<Eigen::Vector3f>& aligned, const Eigen::Vector3d& origin) {
-  const Eigen::Matrix3f r = orientation.sensorToReference().linear().cast<float>();
-  // The translation minus the origin is taken in double, before it becomes a float.
-  const Eigen::Vector3f t = (orientation.sensorToReference().translation() - origin).cast<float>();
+namespace {
+
+// The loop of alignToGravity for one way of reading a point. The running box and count are
+// locals whose address is never taken, so the compiler keeps them in registers instead of
+// reloading them after every store into `out`.
+template <class ReadPoint>
+std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r,
+                     const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
+                     Eigen::Vector3f& box_max) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  aligned.resize(input.count);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Vector3f hi = -lo;
   std::size_t finite = 0;
-  auto alignOne = [&](std::size_t i, const Eigen::Vector3f& p) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3f p = read(i);
     const Eigen::Vector3f q = r * p + t;
     // A finite but astronomically large input can overflow to infinity here: treat it like
     // a missing measurement rather than let it poison the grid bounds.
     if (p.allFinite() && q.allFinite()) {
-      aligned[i] = q;
+      out[i] = q;
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
       ++finite;
     } else {
-      aligned[i] = Eigen::Vector3f(nan, nan, nan);
+      out[i] = Eigen::Vector3f(nan, nan, nan);
     }
-  };
+  }
+  box_min = lo;
+  box_max = hi;
+  return finite;
+}
+
+}  // namespace
+
+std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
+                           std::vector<Eigen::Vector3f>& aligned, const Eigen::Vector3d& origin,
+                           Eigen::AlignedBox3f* finite_box) {
+  const Eigen::Matrix3f r = orientation.sensorToReference().linear().cast<float>();
+  // The translation minus the origin is taken in double, before it becomes a float.
+  const Eigen::Vector3f t = (orientation.sensorToReference().translation() - origin).cast<float>();
+  aligned.resize(input.count);
+  Eigen::Vector3f lo, hi;
+  std::size_t finite = 0;
   if (input.x_offset == 0 && input.y_offset == 4 && input.z_offset == 8) {
     // The common layout (every PCL xyz type, most PointCloud2 messages): x, y, z packed at the
     // start of each point, read as one vector instead of three separate loads.
-    for (std::size_t i = 0; i < input.count; ++i) {
+    const std::uint8_t* data = input.data;
+    const std::size_t stride = input.stride;
+    auto packed = [data, stride](std::size_t i) {
       float xyz[3];
-      std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));
-      alignOne(i, Eigen::Vector3f(xyz[0], xyz[1], xyz[2]));
-    }
+      std::memcpy(xyz, data + i * stride, sizeof(xyz));
+      return Eigen::Vector3f(xyz[0], xyz[1], xyz[2]);
+    };
+    finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi);
   } else {
-    for (std::size_t i = 0; i < input.count; ++i) {
-      alignOne(i, Eigen::Vector3f(input.x(i), input.y(i), input.z(i)));
-    }
+    auto fields = [&input](std::size_t i) {
+      return Eigen::Vector3f(input.x(i), input.y(i), input.z(i));
+    };
+    finite = alignAll(input.count, fields, r, t, aligned.data(), lo, hi);
   }
+  if (finite_box) *finite_box = Eigen::AlignedBox3f(lo, hi);
   return finite;
 }
 

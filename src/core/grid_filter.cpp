@@ -11,8 +11,7 @@ namespace hope {
 namespace {
 
 // Above this many xy cells a dense column table would cost more memory and time than a hash
-// map (sparse LiDAR scans at fine resolution); below it, two counting-sort passes order the
-// points by voxel in linear time.
+// map (sparse LiDAR scans at fine resolution).
 std::size_t denseColumnLimit(std::size_t num_points) {
   const std::size_t floor_limit = std::size_t{1} << 20;
   const std::size_t cap = std::size_t{1} << 25;
@@ -34,7 +33,8 @@ std::uint64_t cellCount(double extent, double leaf, const char* axis, const char
 
 }  // namespace
 
-void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z) {
+void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z,
+                      const GridHints& hints) {
   r_xy_ = r_xy;
   r_z_ = r_z;
   const std::size_t n = aligned.size();
@@ -42,7 +42,6 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
     throw std::invalid_argument("clouds of more than 2^31 points are not supported");
   }
   point_voxel_.assign(n, -1);
-  finite_index_.clear();
   centroid_.clear();
   column_.clear();
   iz_.clear();
@@ -53,17 +52,23 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
   nx_ = ny_ = 1;
   extent_.setZero();
 
+  // Pass 1: the box of the finite points (aligned non-finite points are NaN), unless known.
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
   Eigen::Vector3f hi = -lo;
-  finite_index_.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3f& p = aligned[i];
-    if (!p.allFinite()) continue;
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-    finite_index_.push_back(static_cast<std::uint32_t>(i));
+  std::size_t m = 0;
+  if (hints.finite_box) {
+    m = hints.finite_points;
+    lo = hints.finite_box->min();
+    hi = hints.finite_box->max();
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3f& p = aligned[i];
+      if (!p.allFinite()) continue;
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+      ++m;
+    }
   }
-  const std::size_t m = finite_index_.size();
   if (m == 0) return;
 
   origin_ = lo.cast<double>();
@@ -73,102 +78,158 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
   ny_ = cellCount(extent.y(), r_xy, "y", "r_xy");
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
-  // Cell coordinates of every finite point. Clamping guards against the floating-point case
-  // where (p - lo) / leaf lands exactly on the cell count.
-  point_column_.resize(m);
-  point_iz_.resize(m);
-  const double inv_xy = 1.0 / r_xy, inv_z = 1.0 / r_z;
+  assignPointsToVoxels(aligned, m, nz, hints.row_width);
+  orderVoxels(nz, nx_ * ny_ <= denseColumnLimit(m));
+}
+
+namespace {
+constexpr std::uint64_t kEmptySlot = std::numeric_limits<std::uint64_t>::max();
+}  // namespace
+
+// One read of the points in input order. Points that follow each other in a scan or an image
+// mostly share a voxel, so the last voxel is checked before the hash table. Summing each
+// voxel's points in input order keeps the centroids independent of how voxels are numbered.
+void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned,
+                                     std::size_t finite_points, std::uint64_t nz,
+                                     std::size_t row_width) {
+  found_key_.clear();
+  found_count_.clear();
+  found_sum_.clear();
+  // Start at last frame's size (growing costs rehashes), but never above what this cloud can
+  // fill (at most one voxel per finite point, half the slots used).
+  std::size_t capacity = 4096;
+  while (capacity < slot_key_.size() && capacity < 2 * finite_points) capacity *= 2;
+  slot_key_.assign(capacity, kEmptySlot);
+  slot_voxel_.assign(capacity, 0);
+
+  const double inv_xy = 1.0 / r_xy_, inv_z = 1.0 / r_z_;
   const double ox = origin_.x(), oy = origin_.y(), oz = origin_.z();
-  for (std::size_t k = 0; k < m; ++k) {
-    const Eigen::Vector3f& p = aligned[finite_index_[k]];
-    const auto ix =
-        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.x() - ox) * inv_xy), nx_ - 1);
-    const auto iy =
-        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.y() - oy) * inv_xy), ny_ - 1);
-    const auto iz =
-        std::min<std::uint64_t>(static_cast<std::uint64_t>((p.z() - oz) * inv_z), nz - 1);
-    point_column_[k] = ix + nx_ * iy;
-    point_iz_[k] = static_cast<std::uint32_t>(iz);
-  }
-
-  const bool dense = nx_ * ny_ <= denseColumnLimit(m);
-  if (dense) {
-    sortByCounting(static_cast<std::size_t>(nx_ * ny_), static_cast<std::size_t>(nz));
-  } else {
-    sortByComparison();
-  }
-  collectVoxels(aligned, dense);
-}
-
-// Two stable counting-sort passes (least significant key first): by z cell, then by column.
-// Leaves scratch_ holding finite-point positions k sorted by (column, z cell).
-void VoxelGrid::sortByCounting(std::size_t num_columns, std::size_t nz) {
-  const std::size_t m = point_column_.size();
-  std::vector<std::uint32_t> counts(std::max(num_columns, nz) + 1, 0);
-  std::vector<std::uint32_t>& by_z = point_order_;  // borrowed as scratch, rewritten later
-  by_z.resize(m);
-  for (std::size_t k = 0; k < m; ++k) ++counts[point_iz_[k] + 1];
-  for (std::size_t b = 1; b <= nz; ++b) counts[b] += counts[b - 1];
-  for (std::size_t k = 0; k < m; ++k) by_z[counts[point_iz_[k]]++] = static_cast<std::uint32_t>(k);
-
-  std::fill(counts.begin(), counts.begin() + num_columns + 1, 0);
-  for (std::size_t k = 0; k < m; ++k) ++counts[point_column_[k] + 1];
-  for (std::size_t b = 1; b <= num_columns; ++b) counts[b] += counts[b - 1];
-  scratch_.resize(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t k = by_z[j];
-    scratch_[counts[point_column_[k]]++] = k;
-  }
-}
-
-void VoxelGrid::sortByComparison() {
-  const std::size_t m = point_column_.size();
-  // Key = (column, z cell) packed in 64 bits: column < 2^42, z cell < 2^21.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(m);
-  for (std::size_t k = 0; k < m; ++k) {
-    keyed[k] = {(point_column_[k] << 21) | point_iz_[k], static_cast<std::uint32_t>(k)};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  scratch_.resize(m);
-  for (std::size_t j = 0; j < m; ++j) scratch_[j] = keyed[j].second;
-}
-
-// Walks the sorted points once: each run of equal (column, z cell) is a voxel.
-void VoxelGrid::collectVoxels(const std::vector<Eigen::Vector3f>& aligned, bool dense_columns) {
-  const std::size_t m = scratch_.size();
-  point_order_.resize(m);
-  point_begin_.clear();
-  std::uint64_t current_column = std::numeric_limits<std::uint64_t>::max();
-  std::uint32_t current_iz = std::numeric_limits<std::uint32_t>::max();
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t k = scratch_[j];
-    if (point_column_[k] != current_column || point_iz_[k] != current_iz) {
-      current_column = point_column_[k];
-      current_iz = point_iz_[k];
-      point_begin_.push_back(static_cast<std::uint32_t>(j));
-      column_.push_back(current_column);
-      iz_.push_back(static_cast<std::int32_t>(current_iz));
-    }
-    const std::uint32_t input_index = finite_index_[k];
-    point_order_[j] = input_index;
-    point_voxel_[input_index] = static_cast<std::int32_t>(column_.size() - 1);
-  }
-  point_begin_.push_back(static_cast<std::uint32_t>(m));
-
-  // Centroids in input order: the points are read sequentially and only the (much smaller)
-  // per-voxel sums are accessed at random.
-  std::vector<Eigen::Vector3d> sums(column_.size(), Eigen::Vector3d::Zero());
+  // (p - origin) / leaf is never negative here, so the cheaper signed conversion truncates
+  // exactly as an unsigned one would. Clamping guards against the floating-point case where
+  // it lands exactly on the cell count.
+  auto cell = [](double offset, double inverse_leaf, std::uint64_t cells) {
+    return std::min(static_cast<std::uint64_t>(static_cast<std::int64_t>(offset * inverse_leaf)),
+                    cells - 1);
+  };
+  row_above_.assign(row_width, {kEmptySlot, 0});
+  recent_voxels_.assign(kRecentVoxels, {kEmptySlot, 0});
+  std::size_t column_in_row = 0;
+  std::uint64_t last_key = kEmptySlot;
+  std::uint32_t last_voxel = 0;
   for (std::size_t i = 0; i < aligned.size(); ++i) {
-    const std::int32_t v = point_voxel_[i];
-    if (v >= 0) sums[v] += aligned[i].cast<double>();
+    const Eigen::Vector3f& p = aligned[i];
+    std::pair<std::uint64_t, std::uint32_t>* above = nullptr;
+    if (row_width > 0) {
+      above = &row_above_[column_in_row];
+      if (++column_in_row == row_width) column_in_row = 0;
+    }
+    if (!p.allFinite()) continue;
+    const std::uint64_t ix = cell(p.x() - ox, inv_xy, nx_);
+    const std::uint64_t iy = cell(p.y() - oy, inv_xy, ny_);
+    const std::uint64_t iz = cell(p.z() - oz, inv_z, nz);
+    const std::uint64_t key = (ix + nx_ * iy) * nz + iz;  // < 2^42 · 2^21
+    if (key != last_key) {
+      last_key = key;
+      if (above && above->first == key) {
+        last_voxel = above->second;
+      } else {
+        // Noise makes neighbouring points alternate between a few voxels of one column:
+        // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache)
+        // in front of the large hash table.
+        auto& recent = recent_voxels_[key & (kRecentVoxels - 1)];
+        if (recent.first != key) recent = {key, voxelOfKey(key)};
+        last_voxel = recent.second;
+      }
+    }
+    if (above) *above = {key, last_voxel};
+    point_voxel_[i] = static_cast<std::int32_t>(last_voxel);
+    ++found_count_[last_voxel];
+    found_sum_[last_voxel] += p.cast<double>();
   }
-  centroid_.resize(column_.size());
-  for (std::size_t v = 0; v < column_.size(); ++v) {
-    centroid_[v] =
-        (sums[v] / static_cast<double>(point_begin_[v + 1] - point_begin_[v])).cast<float>();
+}
+
+std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key) {
+  const std::size_t mask = slot_key_.size() - 1;
+  std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  while (slot_key_[slot] != kEmptySlot) {
+    if (slot_key_[slot] == key) return slot_voxel_[slot];
+    slot = (slot + 1) & mask;
+  }
+  const auto voxel = static_cast<std::uint32_t>(found_key_.size());
+  slot_key_[slot] = key;
+  slot_voxel_[slot] = voxel;
+  found_key_.push_back(key);
+  found_count_.push_back(0);
+  found_sum_.push_back(Eigen::Vector3d::Zero());
+  if (2 * found_key_.size() > slot_key_.size()) growSlots();  // keep probes short
+  return voxel;
+}
+
+void VoxelGrid::growSlots() {
+  slot_key_.assign(2 * slot_key_.size(), kEmptySlot);
+  slot_voxel_.assign(slot_key_.size(), 0);
+  const std::size_t mask = slot_key_.size() - 1;
+  for (std::size_t v = 0; v < found_key_.size(); ++v) {
+    std::size_t slot =
+        static_cast<std::size_t>((found_key_[v] * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    while (slot_key_[slot] != kEmptySlot) slot = (slot + 1) & mask;
+    slot_key_[slot] = found_key_[v];
+    slot_voxel_[slot] = static_cast<std::uint32_t>(v);
+  }
+}
+
+// Voxels sorted by key, i.e. by column (x-major within each row of y) and inside a column by
+// z cell; then one more read of the per-point voxels lists each voxel's points in input order.
+void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns) {
+  const std::size_t num_voxels = found_key_.size();
+  sorted_keys_.resize(num_voxels);
+  if (dense_columns) {
+    // Two stable counting sorts, by z cell and then by column: linear in the voxels, where a
+    // comparison sort of tens of thousands of fine voxels costs milliseconds.
+    const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
+    counts_.assign(std::max<std::size_t>(num_columns, nz) + 1, 0);
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_key_[v] % nz + 1];
+    for (std::size_t b = 1; b <= nz; ++b) counts_[b] += counts_[b - 1];
+    by_z_.resize(num_voxels);
+    for (std::size_t v = 0; v < num_voxels; ++v) {
+      by_z_[counts_[found_key_[v] % nz]++] = static_cast<std::uint32_t>(v);
+    }
+    std::fill(counts_.begin(), counts_.begin() + num_columns + 1, 0);
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_key_[v] / nz + 1];
+    for (std::size_t b = 1; b <= num_columns; ++b) counts_[b] += counts_[b - 1];
+    for (const std::uint32_t v : by_z_)
+      sorted_keys_[counts_[found_key_[v] / nz]++] = {found_key_[v], v};
+  } else {
+    for (std::size_t v = 0; v < num_voxels; ++v) {
+      sorted_keys_[v] = {found_key_[v], static_cast<std::uint32_t>(v)};
+    }
+    std::sort(sorted_keys_.begin(), sorted_keys_.end());
+  }
+  renumber_.resize(num_voxels);
+  column_.resize(num_voxels);
+  iz_.resize(num_voxels);
+  centroid_.resize(num_voxels);
+  point_begin_.resize(num_voxels + 1);
+  point_begin_[0] = 0;
+  for (std::size_t r = 0; r < num_voxels; ++r) {
+    const auto [key, found] = sorted_keys_[r];
+    renumber_[found] = static_cast<std::uint32_t>(r);
+    column_[r] = key / nz;
+    iz_[r] = static_cast<std::int32_t>(key % nz);
+    const std::uint32_t count = found_count_[found];
+    centroid_[r] = (found_sum_[found] / static_cast<double>(count)).cast<float>();
+    point_begin_[r + 1] = point_begin_[r] + count;
+  }
+  point_order_.resize(point_begin_[num_voxels]);
+  cursor_.assign(point_begin_.begin(), point_begin_.end() - 1);
+  for (std::size_t i = 0; i < point_voxel_.size(); ++i) {
+    const std::int32_t found = point_voxel_[i];
+    if (found < 0) continue;
+    const std::uint32_t r = renumber_[found];
+    point_voxel_[i] = static_cast<std::int32_t>(r);
+    point_order_[cursor_[r]++] = static_cast<std::uint32_t>(i);
   }
 
-  const std::size_t num_voxels = column_.size();
   if (dense_columns) {
     dense_column_begin_.assign(nx_ * ny_ + 1, 0);
     for (std::size_t v = 0; v < num_voxels; ++v) ++dense_column_begin_[column_[v] + 1];

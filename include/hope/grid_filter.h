@@ -82,7 +82,7 @@ class VoxelGrid {
   // (point_voxel_), with each voxel's key, point count and coordinate sums.
   void assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned, std::size_t finite_points,
                             std::uint64_t nz, std::size_t row_width);
-  std::uint32_t voxelOfKey(std::uint64_t key);
+  std::uint32_t voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz);
   void growSlots();
   // Pass 3: voxels renumbered in (column, z cell) order, their points listed in input order.
   void orderVoxels(std::uint64_t nz, bool dense_columns);
@@ -92,15 +92,17 @@ class VoxelGrid {
   Eigen::Vector3d extent_ = Eigen::Vector3d::Zero();
   std::uint64_t nx_ = 1, ny_ = 1;
 
-  // Voxels in order of first appearance while points are assigned: key (column · nz + z cell),
-  // point count and coordinate sums (double, summed in input order); an open-addressing hash
-  // table from key to that number (kEmptySlot where free). Reused across frames.
-  std::vector<std::uint64_t> found_key_;
+  // Voxels in order of first appearance while points are assigned: key (column · nz + z cell)
+  // and its two parts, point count and coordinate sums (double, summed in input order); an
+  // open-addressing hash table from key to that number (kEmptySlot where free). Reused across
+  // frames.
+  std::vector<std::uint64_t> found_key_, found_column_;
+  std::vector<std::uint32_t> found_iz_;
   std::vector<std::uint32_t> found_count_;
   std::vector<Eigen::Vector3d> found_sum_;
   std::vector<std::uint64_t> slot_key_;
   std::vector<std::uint32_t> slot_voxel_;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted_keys_;
+  std::vector<std::uint32_t> sorted_;  // first-appearance numbers in (column, z cell) order
   std::vector<std::uint32_t> renumber_, cursor_, counts_, by_z_;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> row_above_;  // key, voxel per image column
   static constexpr std::size_t kRecentVoxels = 4096;                // a power of two

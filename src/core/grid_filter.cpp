@@ -84,6 +84,11 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
 
 namespace {
 constexpr std::uint64_t kEmptySlot = std::numeric_limits<std::uint64_t>::max();
+
+// Fibonacci hashing: spreads consecutive keys (neighbouring z cells) over the table.
+std::size_t slotOf(std::uint64_t key, std::size_t mask) {
+  return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+}
 }  // namespace
 
 // One read of the points in input order. Points that follow each other in a scan or an image
@@ -93,6 +98,8 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
                                      std::size_t finite_points, std::uint64_t nz,
                                      std::size_t row_width) {
   found_key_.clear();
+  found_column_.clear();
+  found_iz_.clear();
   found_count_.clear();
   found_sum_.clear();
   // Start at last frame's size (growing costs rehashes), but never above what this cloud can
@@ -127,7 +134,8 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
     const std::uint64_t ix = cell(p.x() - ox, inv_xy, nx_);
     const std::uint64_t iy = cell(p.y() - oy, inv_xy, ny_);
     const std::uint64_t iz = cell(p.z() - oz, inv_z, nz);
-    const std::uint64_t key = (ix + nx_ * iy) * nz + iz;  // < 2^42 · 2^21
+    const std::uint64_t column = ix + nx_ * iy;
+    const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
     if (key != last_key) {
       last_key = key;
       if (above && above->first == key) {
@@ -137,7 +145,7 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
         // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache)
         // in front of the large hash table.
         auto& recent = recent_voxels_[key & (kRecentVoxels - 1)];
-        if (recent.first != key) recent = {key, voxelOfKey(key)};
+        if (recent.first != key) recent = {key, voxelOfKey(key, column, iz)};
         last_voxel = recent.second;
       }
     }
@@ -148,9 +156,9 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
   }
 }
 
-std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key) {
+std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz) {
   const std::size_t mask = slot_key_.size() - 1;
-  std::size_t slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  std::size_t slot = slotOf(key, mask);
   while (slot_key_[slot] != kEmptySlot) {
     if (slot_key_[slot] == key) return slot_voxel_[slot];
     slot = (slot + 1) & mask;
@@ -159,6 +167,8 @@ std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key) {
   slot_key_[slot] = key;
   slot_voxel_[slot] = voxel;
   found_key_.push_back(key);
+  found_column_.push_back(column);
+  found_iz_.push_back(static_cast<std::uint32_t>(iz));
   found_count_.push_back(0);
   found_sum_.push_back(Eigen::Vector3d::Zero());
   if (2 * found_key_.size() > slot_key_.size()) growSlots();  // keep probes short
@@ -170,8 +180,7 @@ void VoxelGrid::growSlots() {
   slot_voxel_.assign(slot_key_.size(), 0);
   const std::size_t mask = slot_key_.size() - 1;
   for (std::size_t v = 0; v < found_key_.size(); ++v) {
-    std::size_t slot =
-        static_cast<std::size_t>((found_key_[v] * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    std::size_t slot = slotOf(found_key_[v], mask);
     while (slot_key_[slot] != kEmptySlot) slot = (slot + 1) & mask;
     slot_key_[slot] = found_key_[v];
     slot_voxel_[slot] = static_cast<std::uint32_t>(v);
@@ -182,28 +191,26 @@ void VoxelGrid::growSlots() {
 // z cell; then one more read of the per-point voxels lists each voxel's points in input order.
 void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns) {
   const std::size_t num_voxels = found_key_.size();
-  sorted_keys_.resize(num_voxels);
+  sorted_.resize(num_voxels);
   if (dense_columns) {
     // Two stable counting sorts, by z cell and then by column: linear in the voxels, where a
     // comparison sort of tens of thousands of fine voxels costs milliseconds.
     const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
     counts_.assign(std::max<std::size_t>(num_columns, nz) + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_key_[v] % nz + 1];
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_iz_[v] + 1];
     for (std::size_t b = 1; b <= nz; ++b) counts_[b] += counts_[b - 1];
     by_z_.resize(num_voxels);
     for (std::size_t v = 0; v < num_voxels; ++v) {
-      by_z_[counts_[found_key_[v] % nz]++] = static_cast<std::uint32_t>(v);
+      by_z_[counts_[found_iz_[v]]++] = static_cast<std::uint32_t>(v);
     }
     std::fill(counts_.begin(), counts_.begin() + num_columns + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_key_[v] / nz + 1];
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_column_[v] + 1];
     for (std::size_t b = 1; b <= num_columns; ++b) counts_[b] += counts_[b - 1];
-    for (const std::uint32_t v : by_z_)
-      sorted_keys_[counts_[found_key_[v] / nz]++] = {found_key_[v], v};
+    for (const std::uint32_t v : by_z_) sorted_[counts_[found_column_[v]]++] = v;
   } else {
-    for (std::size_t v = 0; v < num_voxels; ++v) {
-      sorted_keys_[v] = {found_key_[v], static_cast<std::uint32_t>(v)};
-    }
-    std::sort(sorted_keys_.begin(), sorted_keys_.end());
+    for (std::size_t v = 0; v < num_voxels; ++v) sorted_[v] = static_cast<std::uint32_t>(v);
+    std::sort(sorted_.begin(), sorted_.end(),
+              [this](std::uint32_t a, std::uint32_t b) { return found_key_[a] < found_key_[b]; });
   }
   renumber_.resize(num_voxels);
   column_.resize(num_voxels);
@@ -212,10 +219,10 @@ void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns) {
   point_begin_.resize(num_voxels + 1);
   point_begin_[0] = 0;
   for (std::size_t r = 0; r < num_voxels; ++r) {
-    const auto [key, found] = sorted_keys_[r];
+    const std::uint32_t found = sorted_[r];
     renumber_[found] = static_cast<std::uint32_t>(r);
-    column_[r] = key / nz;
-    iz_[r] = static_cast<std::int32_t>(key % nz);
+    column_[r] = found_column_[found];
+    iz_[r] = static_cast<std::int32_t>(found_iz_[found]);
     const std::uint32_t count = found_count_[found];
     centroid_[r] = (found_sum_[found] / static_cast<double>(count)).cast<float>();
     point_begin_[r + 1] = point_begin_[r] + count;

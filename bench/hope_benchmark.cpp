@@ -1,5 +1,6 @@
 // Speed of the HoPE pipeline and of each stage, beside PCL's reference implementations of the
-// same front-end stages (VoxelGrid, NormalEstimation with a k-d tree), in the same run; and
+// same front-end stages (VoxelGrid, NormalEstimation with a k-d tree) and the paper's two
+// reference pipelines built from PCL (region growing, RANSAC), in the same run; and
 // the cost of plane tracking per frame (paper's NNPM and the improved tracker).
 //
 //   build/devel/lib/hope/hope_benchmark [--benchmark_filter=TUM]
@@ -23,6 +24,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/depth_image.h"
+#include "hope/evaluation/baselines.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope/synthetic/lidar.h"
@@ -139,6 +141,7 @@ void BM_Hope(benchmark::State& state) {
   const int mode = static_cast<int>(state.range(1));
   params.merge_fragments = mode != 0;
   params.bridge_scan_gaps = mode == 1;
+  params.threads = state.range(2);
   hope::Extractor extractor(params);
   hope::StageTimings sum;
   std::size_t planes = 0, voxels = 0;
@@ -169,24 +172,27 @@ void BM_Hope(benchmark::State& state) {
   state.counters["voxels"] = static_cast<double>(voxels);
   state.counters["total_ms"] = sum.total_ms / n;
   state.counters["points_per_ms"] = static_cast<double>(in.cloud->size()) / (sum.total_ms / n);
-  state.SetLabel(std::string(kInputNames[state.range(0)]) + (mode == 0
-                                                                 ? ", paper (no merge, no bridging)"
-                                                             : mode == 2 ? ", no bridging"
-                                                                         : ""));
+  state.SetLabel(std::string(kInputNames[state.range(0)]) +
+                 (mode == 0   ? ", paper (no merge, no bridging)"
+                  : mode == 2 ? ", no bridging"
+                              : "") +
+                 (params.threads > 1 ? ", " + std::to_string(params.threads) + " threads" : ""));
 }
 // Arguments: input (0 TUM frame, 1 6 M-point room, 2 pattern object at r_xy 0.009, 3 HDL-64E
 // street scan), mode (1 hope's defaults; 0 the paper's pipeline: no fragment merge, no scan-gap
-// bridging; 2 no bridging).
+// bridging; 2 no bridging), threads (Params::threads).
 BENCHMARK(BM_Hope)
-    ->Args({0, 1})
-    ->Args({0, 0})
-    ->Args({1, 1})
-    ->Args({1, 0})
-    ->Args({2, 1})
-    ->Args({2, 0})
-    ->Args({3, 1})
-    ->Args({3, 2})
-    ->Args({3, 0})
+    ->Args({0, 1, 1})
+    ->Args({0, 0, 1})
+    ->Args({0, 1, 2})
+    ->Args({1, 1, 1})
+    ->Args({1, 0, 1})
+    ->Args({1, 1, 2})
+    ->Args({2, 1, 1})
+    ->Args({2, 0, 1})
+    ->Args({3, 1, 1})
+    ->Args({3, 2, 1})
+    ->Args({3, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
@@ -198,9 +204,10 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr alignedForPcl(const Input& in) {
   return aligned;
 }
 
-pcl::VoxelGrid<pcl::PointXYZ> pclGrid() {
+pcl::VoxelGrid<pcl::PointXYZ> pclGrid(const hope::Params& params) {
   pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setLeafSize(0.05f, 0.05f, 0.02f);
+  grid.setLeafSize(static_cast<float>(params.r_xy), static_cast<float>(params.r_xy),
+                   static_cast<float>(params.r_z));
   return grid;
 }
 
@@ -210,7 +217,7 @@ void BM_PclVoxelGrid(benchmark::State& state) {
   if (!input) return;
   const Input& in = *input;
   const pcl::PointCloud<pcl::PointXYZ>::Ptr aligned = alignedForPcl(in);
-  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid();
+  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid(in.params);
   pcl::PointCloud<pcl::PointXYZ> out;
   for (auto _ : state) {
     grid.setInputCloud(aligned);
@@ -229,14 +236,14 @@ void BM_PclNormals(benchmark::State& state) {
   if (!input) return;
   const Input& in = *input;
   const pcl::PointCloud<pcl::PointXYZ>::Ptr aligned = alignedForPcl(in);
-  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid();
+  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid(in.params);
   grid.setInputCloud(aligned);
   pcl::PointCloud<pcl::PointXYZ>::Ptr voxels(new pcl::PointCloud<pcl::PointXYZ>);
   grid.filter(*voxels);
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> estimation;
   estimation.setSearchMethod(
       pcl::search::KdTree<pcl::PointXYZ>::Ptr(new pcl::search::KdTree<pcl::PointXYZ>));
-  estimation.setRadiusSearch(1.01 * 0.05);
+  estimation.setRadiusSearch(in.params.normal_radius_factor * in.params.r_xy);
   pcl::PointCloud<pcl::Normal> normals;
   for (auto _ : state) {
     estimation.setInputCloud(voxels);
@@ -247,6 +254,46 @@ void BM_PclNormals(benchmark::State& state) {
   state.SetLabel(kInputNames[state.range(0)]);
 }
 BENCHMARK(BM_PclNormals)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The paper's reference pipelines end to end, as a user would assemble them from PCL: the
+// cloud rotated into the gravity frame (pcl::transformPointCloud), PCL's VoxelGrid with hope's
+// leaf (r_xy, r_xy, r_z), then region growing (normals from a k-d tree, K = 20, 8°) or RANSAC
+// with a plane model perpendicular to z, with the paper's Table 1 settings
+// (hope/evaluation/baselines.h). They give planes on voxels only, no per-point labels, so hope
+// does more work in its own case. Arg 0: input; arg 1: 0 region growing, 1 RANSAC.
+void BM_PclPipeline(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  const bool ransac = state.range(1) == 1;
+  const Eigen::Matrix4f to_reference = in.pose.sensorToReference().cast<float>().matrix();
+  pcl::VoxelGrid<pcl::PointXYZ> grid = pclGrid(in.params);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr aligned(new pcl::PointCloud<pcl::PointXYZ>);
+  std::size_t planes = 0, voxels = 0;
+  for (auto _ : state) {
+    pcl::transformPointCloud(*in.cloud, *aligned, to_reference);
+    grid.setInputCloud(aligned);
+    hope::evaluation::GriddedCloud gridded;
+    grid.filter(*gridded.voxels);
+    const hope::evaluation::BaselineResult r =
+        ransac ? hope::evaluation::ransacPlanes(gridded, in.params)
+               : hope::evaluation::regionGrowingPlanes(gridded, in.params);
+    benchmark::DoNotOptimize(r.heights.data());
+    planes = r.heights.size();
+    voxels = gridded.voxels->size();
+  }
+  state.counters["planes"] = static_cast<double>(planes);
+  state.counters["voxels"] = static_cast<double>(voxels);
+  state.SetLabel(std::string(kInputNames[state.range(0)]) +
+                 (ransac ? ", PCL RANSAC pipeline" : ", PCL region-growing pipeline"));
+}
+BENCHMARK(BM_PclPipeline)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The nodelet's work per frame on the TUM frame, beside the core's own time: the PointCloud2
 // read in place, extraction, tracking, and building the three output messages (PlaneArray,

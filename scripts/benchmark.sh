@@ -14,3 +14,23 @@ export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
 # The Python binding's cost over the C++ call, same machine, same run.
 PYTHONPATH=$root/build/devel/lib/python3/dist-packages /usr/bin/python3 bench/python_overhead.py \
   2>&1 | tee -a docs/benchmark_latest.txt
+# Cold first call against the steady state, and the whole hope_extract process's peak memory,
+# on the benchmark's 6.0 M-point cloud written to a file (one thread, then every core), and on
+# the TUM frame.
+large=$root/build/bench_data
+./build/devel/lib/hope/hope_synth --out "$large" --room-scan 0.00245 | tee -a docs/benchmark_latest.txt
+for threads in 1 0; do
+  echo "hope_extract --input room_scan.pcd --repeat 5 --threads $threads" | tee -a docs/benchmark_latest.txt
+  /usr/bin/time -v ./build/devel/lib/hope/hope_extract --input "$large/room_scan.pcd" --repeat 5 \
+    --threads "$threads" 2> "$large/time.txt" | grep -E "^time|^cold" | tee -a docs/benchmark_latest.txt
+  grep -E "Maximum resident" "$large/time.txt" | sed 's/^\s*/  /' | tee -a docs/benchmark_latest.txt
+done
+tum=$HOPE_SHARED_DATA/tum_fr1_desk/1305031459.274941.png
+if [ -f "$tum" ]; then
+  # The ground truth's last pose, as the benchmark takes.
+  pose=$(grep -v '^#' "$(dirname "$tum")/groundtruth.txt" | tail -1 | cut -d' ' -f2-8)
+  echo "hope_extract --depth (TUM frame) --pose (last ground-truth line) --repeat 20 --threads 1" |
+    tee -a docs/benchmark_latest.txt
+  ./build/devel/lib/hope/hope_extract --depth "$tum" --pose "$pose" --repeat 20 --threads 1 |
+    grep -E "^time|^cold" | tee -a docs/benchmark_latest.txt
+fi

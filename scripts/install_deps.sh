@@ -15,7 +15,7 @@ packages=(
   python3-sensor-msgs python3-rosbag python3-tf2-msgs python3-opencv
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
   libvisualization-msgs-dev rviz xvfb imagemagick
-  libgtest-dev libbenchmark-dev clang-format
+  libgtest-dev libbenchmark-dev clang-format time  # time: peak memory in scripts/benchmark.sh
   pybind11-dev python3-dev python3-numpy python3-setuptools  # the Python bindings
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
 )

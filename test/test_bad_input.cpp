@@ -51,6 +51,13 @@ TEST(BadInput, InvalidParametersAreRejectedNamingTheParameter) {
   p = Params();
   p.min_area = -1;
   EXPECT_NE(errorOf(p).find("min_area"), std::string::npos);
+  p = Params();
+  p.threads = -1;
+  EXPECT_EQ(errorOf(p), "parameter threads = -1 is out of range [0, 1024] (0 takes every core)");
+  p.threads = 5000;
+  EXPECT_NE(errorOf(p).find("threads = 5000"), std::string::npos);
+  p.threads = 0;  // every core
+  EXPECT_EQ(errorOf(p), "");
   EXPECT_EQ(errorOf(Params()), "");
 }
 

@@ -115,6 +115,23 @@ TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {
                        dir_ + "/l.pcd --overlay " + dir_ + "/o.png");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("height_m"), std::string::npos) << r.output;
+  // --repeat: the same planes from every call, the cold and steady timings printed; two
+  // threads and one give the same JSON.
+  const CliRun repeated =
+      run("--depth " + dir_ + "/depth.png --pose \"" + pose.substr(0, pose.find('\n')) +
+          "\" --repeat 3 --threads 2 --json " + dir_ + "/p2.json");
+  ASSERT_EQ(repeated.exit_code, 0) << repeated.output;
+  EXPECT_NE(repeated.output.find("cold first call "), std::string::npos) << repeated.output;
+  EXPECT_NE(repeated.output.find("(median of 2 more calls)"), std::string::npos) << repeated.output;
+  const CliRun single =
+      run("--depth " + dir_ + "/depth.png --pose \"" + pose.substr(0, pose.find('\n')) +
+          "\" --threads 1 --quiet --json " + dir_ + "/p1.json");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  auto withoutTimings = [](std::string json) {
+    return json.substr(0, json.find("\"timings_ms\""));
+  };
+  EXPECT_EQ(withoutTimings(slurp(dir_ + "/p1.json")), withoutTimings(slurp(dir_ + "/p2.json")));
+  EXPECT_GT(slurp(dir_ + "/p1.json").find("\"timings_ms\""), 100u);
 
   const std::string json = slurp(dir_ + "/p.json");
   for (const char* key : {"\"planes\"", "\"id\"", "\"height\"", "\"bbox\"", "\"centroid\"",
@@ -212,6 +229,14 @@ TEST_F(Cli, ErrorsGoToStderrWithTheirExitCode) {
   r = run("--input x.pcd --rpy \"1 2\"");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--rpy: expected 3 numbers, got 2"), std::string::npos) << r.output;
+  r = run("--input x.pcd --threads 1.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--threads must be a whole number in [0, 1024]"), std::string::npos)
+      << r.output;
+  r = run("--input x.pcd --repeat 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--repeat must be a whole number in [1, 100000]"), std::string::npos)
+      << r.output;
   r = run("--bogus");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("unknown option '--bogus'"), std::string::npos) << r.output;

@@ -403,6 +403,61 @@ TEST(PlaneDescription, ConvexHullIsCounterClockwiseAndDropsInteriorPoints) {
   EXPECT_NEAR(twice_area, 2.0, 1e-12);  // positive: counter-clockwise
 }
 
+// The hull drops the points strictly inside the octagon of the extreme points before its sort;
+// the hull must be the one a plain monotone chain over every point gives, vertex for vertex:
+// on a disc, a square with points on a coarse lattice (duplicates, collinear rims), a thin
+// diagonal strip and a ring.
+TEST(PlaneDescription, ConvexHullEqualsAPlainMonotoneChainOverEveryPoint) {
+  auto plain = [](std::vector<Eigen::Vector2d> p) {
+    std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+    });
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    auto turn = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+    };
+    std::vector<Eigen::Vector2d> lower, upper;
+    for (const auto& q : p) {
+      while (lower.size() >= 2 && turn(lower[lower.size() - 2], lower.back(), q) <= 0)
+        lower.pop_back();
+      lower.push_back(q);
+    }
+    for (auto it = p.rbegin(); it != p.rend(); ++it) {
+      while (upper.size() >= 2 && turn(upper[upper.size() - 2], upper.back(), *it) <= 0)
+        upper.pop_back();
+      upper.push_back(*it);
+    }
+    lower.pop_back();
+    upper.pop_back();
+    lower.insert(lower.end(), upper.begin(), upper.end());
+    return lower;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int shape = 0; shape < 4; ++shape) {
+    for (std::size_t n : {70u, 500u, 20000u}) {
+      std::vector<Eigen::Vector2d> pts;
+      while (pts.size() < n) {
+        double x = uniform(rng), y = uniform(rng);
+        const double r = std::hypot(x, y);
+        if (shape == 0 && r > 1.0) continue;
+        if (shape == 1) x = std::round(x * 8) / 8, y = std::round(y * 8) / 8;
+        if (shape == 2) y = x + 0.01 * y;
+        if (shape == 3 && (r < 0.9 || r > 1.0)) continue;
+        pts.emplace_back(x, y);
+      }
+      const std::vector<Eigen::Vector2d> expected = plain(pts);
+      const std::vector<Eigen::Vector2d> hull = convexHull2D(pts);
+      ASSERT_GE(expected.size(), 3u);
+      ASSERT_EQ(hull.size(), expected.size()) << "shape " << shape << ", " << n << " points";
+      for (std::size_t k = 0; k < expected.size(); ++k) {
+        EXPECT_EQ(hull[k], expected[k])
+            << "shape " << shape << ", " << n << " points, vertex " << k;
+      }
+    }
+  }
+}
+
 // The description skips voxels the plane surrounds on all four diagonal sides when it looks
 // for hull vertices and bbox extremes; the hull and bbox must be those of every point.
 TEST(PlaneDescription, HullAndBboxEqualThoseOfEveryPoint) {

@@ -62,10 +62,10 @@ Eigen::Vector3d localOrigin(const Orientation& orientation);
 // Transforms every point into F_r, minus `origin` (see localOrigin). Non-finite input points
 // become NaN so that later stages (and per-point labels) keep the input order. Returns the
 // number of finite points; with `finite_box`, also their bounding box (the grid filter needs
-// it, and this pass has every point at hand).
+// it, and this pass has every point at hand). `threads` as Params::threads (0: every core).
 std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
                            std::vector<Eigen::Vector3f>& aligned,
                            const Eigen::Vector3d& origin = Eigen::Vector3d::Zero(),
-                           Eigen::AlignedBox3f* finite_box = nullptr);
+                           Eigen::AlignedBox3f* finite_box = nullptr, int threads = 1);
 
 }  // namespace hope

@@ -46,7 +46,8 @@ class NormalNeighbourhood {
 // arbitrary; §2.2 takes |n_z| for the same reason). A voxel with fewer than 3 neighbours
 // (itself included), or whose neighbours lie on a line, gets a NaN normal and can never be a
 // horizontal candidate.
+// `threads` as Params::threads (0: every core); each voxel's normal is computed alone.
 void estimateNormals(const VoxelGrid& grid, double radius_factor,
-                     std::vector<Eigen::Vector3f>& normals);
+                     std::vector<Eigen::Vector3f>& normals, int threads = 1);
 
 }  // namespace hope

@@ -38,6 +38,11 @@ struct Params {
   // along the sensor's ray. Needs the sensor position; applies to LiDAR layouts (rings ×
   // azimuth) and unorganized clouds, not to a camera's image. false reproduces the paper.
   bool bridge_scan_gaps = true;
+  // Threads for the passes over points and voxels (alignment, normals, description, labels);
+  // 0 takes every core. The output does not depend on it: each thread works on its own share
+  // and the shares are combined in a fixed order. 1 by default, as a nodelet shares its
+  // manager's cores with the other nodelets; hope_extract uses every core.
+  int threads = 1;
 
   // γ of Eq 3 and Eq 10.
   double gamma() const { return r_z / r_xy; }

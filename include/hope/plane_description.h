@@ -26,8 +26,8 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
 // Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
 // than three distinct points come back as they are (deduplicated).
 std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points);
-// The same without allocating: sorts points[0..n) in place and writes the hull to `hull`,
-// which must have room for 2n + 1 points. Returns the hull's size.
+// The same without allocating: reorders and overwrites points[0..n) (scratch) and writes the
+// hull to `hull`, which must have room for 2n + 1 points. Returns the hull's size.
 std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull);
 
 }  // namespace hope

@@ -11,6 +11,7 @@
 #include "hope/plane_description.h"
 #include "hope/scan_gap_bridging.h"
 #include "hope/z_clustering.h"
+#include "parallel.h"
 
 namespace hope {
 
@@ -53,8 +54,9 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.local_origin = localOrigin(orientation);
   GridHints hints;
   Eigen::AlignedBox3f finite_box;
+  const int threads = parallel::resolve(params_.threads);
   result.finite_points =
-      alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box);
+      alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box, threads);
   hints.finite_box = finite_box;
   hints.finite_points = result.finite_points;
   if (cloud.organized()) hints.row_width = cloud.width;
@@ -73,7 +75,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.grid_filter_ms = stage.lap();
 
-  estimateNormals(grid_, params_.normal_radius_factor, normals_);
+  estimateNormals(grid_, params_.normal_radius_factor, normals_, threads);
   // The sensor position in the grid's coordinates, when known.
   std::optional<Eigen::Vector3d> viewpoint;
   if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
@@ -109,12 +111,17 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   // merge on, rejected clusters are described too (they may join an accepted surface), and
   // only from their voxels: every surface is measured in full once it is complete.
   const bool merge = params_.merge_fragments;
+  // The clusters are described in parallel (each on its own), then taken in cluster order.
+  std::vector<HorizontalPlane> descriptions(clusters.size());
+  parallel::forEach(clusters.size(), threads, [&](std::size_t c) {
+    if (!accepted[c] && !merge) return;
+    descriptions[c] =
+        describePlane(grid_, aligned_, clusters[c], merge ? Detail::kVoxels : Detail::kFull);
+  });
   std::vector<Fragment> fragments;
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     if (!accepted[c] && !merge) continue;
-    Fragment fragment{
-        describePlane(grid_, aligned_, clusters[c], merge ? Detail::kVoxels : Detail::kFull),
-        &clusters[c], accepted[c] != 0};
+    Fragment fragment{std::move(descriptions[c]), &clusters[c], accepted[c] != 0};
     // The plane fitted through the cluster's points must itself be within the accepted slope:
     // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
     // level strips), and the fit over the whole strip sees what the normals miss.
@@ -215,13 +222,14 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.timings.merging_ms = stage.lap();
   if (merge) {
     // Each surface measured in full, as the paper's planes are.
-    for (Surface& surface : surfaces) {
+    parallel::forEach(surfaces.size(), threads, [&](std::size_t k) {
+      Surface& surface = surfaces[k];
       HorizontalPlane full = describePlane(grid_, aligned_, surface.voxels);
       full.num_parts = surface.plane.num_parts;
       full.mean_normal_tilt = surface.plane.mean_normal_tilt;
       full.group_angle = surface.plane.group_angle;
       surface.plane = std::move(full);
-    }
+    });
   }
 
   // Ids in order, after the optional height band and minimum area; the voxels of a dropped
@@ -250,9 +258,14 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
   // small enough to stay in cache), rather than scattered writes plane by plane.
   const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
-  for (std::size_t i = 0; i < point_voxel.size(); ++i) {
-    if (point_voxel[i] >= 0) result.point_labels[i] = voxel_plane_[point_voxel[i]];
-  }
+  parallel::forShares(point_voxel.size(), threads, std::size_t{1} << 15,
+                      [&](int /*share*/, std::size_t begin, std::size_t end) {
+                        for (std::size_t i = begin; i < end; ++i) {
+                          if (point_voxel[i] >= 0) {
+                            result.point_labels[i] = voxel_plane_[point_voxel[i]];
+                          }
+                        }
+                      });
   result.timings.description_ms += stage.lap();
   result.timings.total_ms = total.lap();
   return result;

@@ -1,10 +1,13 @@
 #include "hope/gravity_alignment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "parallel.h"
 
 namespace hope {
 
@@ -119,41 +122,78 @@ Eigen::Vector3d localOrigin(const Orientation& orientation) {
 
 namespace {
 
-// The loop of alignToGravity for one way of reading a point. The running box and count are
-// locals whose address is never taken, so the compiler keeps them in registers instead of
-// reloading them after every store into `out`.
+// The loop of alignToGravity for one way of reading a point, written out in scalars: the
+// running box and count are locals whose address is never taken, so the compiler keeps them in
+// registers instead of reloading them after every store into `out`. Only the rotated point is
+// tested for finiteness: every output coordinate sums all three input coordinates (times a
+// rotation entry, possibly zero), and a NaN or an infinity times anything, zero included, is
+// not finite, so a non-finite input never yields a finite output. A finite but astronomically
+// large input can overflow to infinity here too: treated like a missing measurement rather
+// than let it poison the grid bounds.
 template <class ReadPoint>
-std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r,
-                     const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
-                     Eigen::Vector3f& box_max) {
+std::size_t alignRange(std::size_t begin, std::size_t end, ReadPoint read, const Eigen::Matrix3f& r,
+                       const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
+                       Eigen::Vector3f& box_max) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Vector3f hi = -lo;
+  const float r00 = r(0, 0), r01 = r(0, 1), r02 = r(0, 2), r10 = r(1, 0), r11 = r(1, 1),
+              r12 = r(1, 2), r20 = r(2, 0), r21 = r(2, 1), r22 = r(2, 2);
+  const float tx = t.x(), ty = t.y(), tz = t.z();
+  float lo_x = std::numeric_limits<float>::max(), lo_y = lo_x, lo_z = lo_x;
+  float hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x;
   std::size_t finite = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const Eigen::Vector3f p = read(i);
-    const Eigen::Vector3f q = r * p + t;
-    // A finite but astronomically large input can overflow to infinity here: treat it like
-    // a missing measurement rather than let it poison the grid bounds.
-    if (p.allFinite() && q.allFinite()) {
-      out[i] = q;
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
+  for (std::size_t i = begin; i < end; ++i) {
+    float x, y, z;
+    read(i, x, y, z);
+    const float qx = r00 * x + r01 * y + r02 * z + tx;
+    const float qy = r10 * x + r11 * y + r12 * z + ty;
+    const float qz = r20 * x + r21 * y + r22 * z + tz;
+    // x - x is 0 for a finite x and NaN for NaN or ±inf; the sum of the three is 0 only when
+    // all three are finite.
+    if ((qx - qx) + (qy - qy) + (qz - qz) == 0.0f) {
+      out[i] = Eigen::Vector3f(qx, qy, qz);
+      lo_x = std::min(lo_x, qx), lo_y = std::min(lo_y, qy), lo_z = std::min(lo_z, qz);
+      hi_x = std::max(hi_x, qx), hi_y = std::max(hi_y, qy), hi_z = std::max(hi_z, qz);
       ++finite;
     } else {
       out[i] = Eigen::Vector3f(nan, nan, nan);
     }
   }
-  box_min = lo;
-  box_max = hi;
+  box_min = Eigen::Vector3f(lo_x, lo_y, lo_z);
+  box_max = Eigen::Vector3f(hi_x, hi_y, hi_z);
   return finite;
+}
+
+// alignRange over every point in shares, one per thread; the shares' boxes and counts are
+// combined afterwards (min, max and sum: the same whatever the split).
+template <class ReadPoint>
+std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r,
+                     const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
+                     Eigen::Vector3f& box_max, int threads) {
+  constexpr int kMaxShares = 64;
+  threads = std::min(threads, kMaxShares);
+  Eigen::Vector3f lo[kMaxShares], hi[kMaxShares];
+  std::size_t finite[kMaxShares] = {};
+  const int shares = parallel::forShares(
+      count, threads, std::size_t{1} << 15, [&](int share, std::size_t begin, std::size_t end) {
+        finite[share] = alignRange(begin, end, read, r, t, out, lo[share], hi[share]);
+      });
+  box_min = lo[0];
+  box_max = hi[0];
+  std::size_t total = finite[0];
+  for (int k = 1; k < shares; ++k) {
+    box_min = box_min.cwiseMin(lo[k]);
+    box_max = box_max.cwiseMax(hi[k]);
+    total += finite[k];
+  }
+  return total;
 }
 
 }  // namespace
 
 std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
                            std::vector<Eigen::Vector3f>& aligned, const Eigen::Vector3d& origin,
-                           Eigen::AlignedBox3f* finite_box) {
+                           Eigen::AlignedBox3f* finite_box, int threads) {
+  threads = parallel::resolve(threads);
   const Eigen::Matrix3f r = orientation.sensorToReference().linear().cast<float>();
   // The translation minus the origin is taken in double, before it becomes a float.
   const Eigen::Vector3f t = (orientation.sensorToReference().translation() - origin).cast<float>();
@@ -165,17 +205,17 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
     // start of each point, read as one vector instead of three separate loads.
     const std::uint8_t* data = input.data;
     const std::size_t stride = input.stride;
-    auto packed = [data, stride](std::size_t i) {
+    auto packed = [data, stride](std::size_t i, float& x, float& y, float& z) {
       float xyz[3];
       std::memcpy(xyz, data + i * stride, sizeof(xyz));
-      return Eigen::Vector3f(xyz[0], xyz[1], xyz[2]);
+      x = xyz[0], y = xyz[1], z = xyz[2];
     };
-    finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi);
+    finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi, threads);
   } else {
-    auto fields = [&input](std::size_t i) {
-      return Eigen::Vector3f(input.x(i), input.y(i), input.z(i));
+    auto fields = [&input](std::size_t i, float& x, float& y, float& z) {
+      x = input.x(i), y = input.y(i), z = input.z(i);
     };
-    finite = alignAll(input.count, fields, r, t, aligned.data(), lo, hi);
+    finite = alignAll(input.count, fields, r, t, aligned.data(), lo, hi, threads);
   }
   if (finite_box) *finite_box = Eigen::AlignedBox3f(lo, hi);
   return finite;

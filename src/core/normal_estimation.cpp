@@ -6,6 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "parallel.h"
+
 namespace hope {
 
 namespace {
@@ -55,23 +57,26 @@ Eigen::Matrix3f NormalNeighbourhood::Moments::covariance() const {
 }
 
 void estimateNormals(const VoxelGrid& grid, double radius_factor,
-                     std::vector<Eigen::Vector3f>& normals) {
+                     std::vector<Eigen::Vector3f>& normals, int threads) {
   const std::size_t num_voxels = grid.numVoxels();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   normals.assign(num_voxels, Eigen::Vector3f(nan, nan, nan));
   const NormalNeighbourhood neighbourhood(grid, radius_factor);
-  for (std::size_t v = 0; v < num_voxels; ++v) {
-    const NormalNeighbourhood::Moments m = neighbourhood.moments(v);
-    if (m.count < 3) continue;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-    solver.computeDirect(m.covariance());
-    const Eigen::Vector3f& eigenvalues = solver.eigenvalues();  // ascending
-    if (!(eigenvalues(1) > kMinPlanarity * eigenvalues(2))) continue;
-    Eigen::Vector3f n = solver.eigenvectors().col(0);
-    if (!n.allFinite() || n.squaredNorm() < 0.5f) continue;
-    n.normalize();
-    normals[v] = n.z() < 0 ? Eigen::Vector3f(-n) : n;
-  }
+  parallel::forShares(num_voxels, parallel::resolve(threads), 2048,
+                      [&](int /*share*/, std::size_t begin, std::size_t end) {
+                        for (std::size_t v = begin; v < end; ++v) {
+                          const NormalNeighbourhood::Moments m = neighbourhood.moments(v);
+                          if (m.count < 3) continue;
+                          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
+                          solver.computeDirect(m.covariance());
+                          const Eigen::Vector3f& eigenvalues = solver.eigenvalues();  // ascending
+                          if (!(eigenvalues(1) > kMinPlanarity * eigenvalues(2))) continue;
+                          Eigen::Vector3f n = solver.eigenvectors().col(0);
+                          if (!n.allFinite() || n.squaredNorm() < 0.5f) continue;
+                          n.normalize();
+                          normals[v] = n.z() < 0 ? Eigen::Vector3f(-n) : n;
+                        }
+                      });
 }
 
 }  // namespace hope

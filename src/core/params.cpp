@@ -15,6 +15,8 @@ namespace {
 // (millimetres or centimetres passed as metres).
 constexpr double kMinResolution = 1e-4;
 constexpr double kMaxResolution = 10.0;
+// More threads than any machine hope runs on has cores: a typo or an uninitialised value.
+constexpr int kMaxThreads = 1024;
 
 void requireRange(const char* name, double value, double lo, double hi, const char* hint) {
   if (!std::isfinite(value) || value < lo || value > hi) {
@@ -46,6 +48,12 @@ void validate(const Params& p) {
     throw std::invalid_argument(msg.str());
   }
   requireRange("min_area", p.min_area, 0.0, 1e6, " (square metres)");
+  if (p.threads < 0 || p.threads > kMaxThreads) {
+    std::ostringstream msg;
+    msg << "parameter threads = " << p.threads << " is out of range [0, " << kMaxThreads
+        << "] (0 takes every core)";
+    throw std::invalid_argument(msg.str());
+  }
   requireRange("max_merge_gap", p.max_merge_gap, 0.0, 100.0,
                " (metres: the widest gap between two fragments of one surface)");
 }

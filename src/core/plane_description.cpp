@@ -82,10 +82,52 @@ const char* toString(Facing facing) {
   return "unknown";
 }
 
+namespace {
+
+// Akl–Toussaint: the points extreme in eight directions (x, y and both diagonals, both ways)
+// span an octagon inside the hull, and a point strictly inside it cannot be a hull vertex.
+// One pass drops those points, so that the O(n log n) sort sees only the few near the rim; the
+// hull is the same, vertex for vertex. Returns the number of points kept at the front.
+std::size_t dropPointsInsideExtremeOctagon(Eigen::Vector2d* points, std::size_t n) {
+  // Directions at -90°, -45°, 0°, 45°, 90°, 135°, 180°, 225°: their extreme points follow
+  // one another counter-clockwise around the hull.
+  const double dir[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
+  std::size_t extreme[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  double best[8];
+  for (int k = 0; k < 8; ++k) best[k] = -HUGE_VAL;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 8; ++k) {
+      const double s = dir[k][0] * points[i].x() + dir[k][1] * points[i].y();
+      if (s > best[k]) best[k] = s, extreme[k] = i;
+    }
+  }
+  Eigen::Vector2d octagon[8];
+  std::size_t corners = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector2d& p = points[extreme[k]];
+    if (corners == 0 || p != octagon[corners - 1]) octagon[corners++] = p;
+  }
+  while (corners > 1 && octagon[corners - 1] == octagon[0]) --corners;
+  if (corners < 3) return n;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool inside = true;
+    for (std::size_t k = 0; k < corners && inside; ++k) {
+      inside = cross(octagon[k], octagon[(k + 1) % corners], points[i]) > 0;
+    }
+    if (!inside) points[kept++] = points[i];
+  }
+  return kept;
+}
+
+}  // namespace
+
 std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull) {
   auto less = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   };
+  // Below a few dozen points the sort is cheaper than the extra pass.
+  if (n > 64) n = dropPointsInsideExtremeOctagon(points, n);
   std::sort(points, points + n, less);
   n = static_cast<std::size_t>(std::unique(points, points + n) - points);
   if (n < 3) {

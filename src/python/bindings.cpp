@@ -264,7 +264,8 @@ std::string planeRepr(const hope::HorizontalPlane& p) {
 std::unique_ptr<PyExtractor> makeExtractor(double r_xy, double r_z, double normal_radius_factor,
                                            int min_cluster_voxels, double min_height,
                                            double max_height, double min_area, bool merge_fragments,
-                                           double max_merge_gap, bool bridge_scan_gaps) {
+                                           double max_merge_gap, bool bridge_scan_gaps,
+                                           int threads) {
   hope::Params p;
   p.r_xy = r_xy;
   p.r_z = r_z;
@@ -276,6 +277,7 @@ std::unique_ptr<PyExtractor> makeExtractor(double r_xy, double r_z, double norma
   p.merge_fragments = merge_fragments;
   p.max_merge_gap = max_merge_gap;
   p.bridge_scan_gaps = bridge_scan_gaps;
+  p.threads = threads;
   // The core validates: its std::invalid_argument, naming the parameter, becomes ValueError.
   return std::make_unique<PyExtractor>(p);
 }
@@ -397,7 +399,8 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("min_area") = defaults.min_area,
            py::arg("merge_fragments") = defaults.merge_fragments,
            py::arg("max_merge_gap") = defaults.max_merge_gap,
-           py::arg("bridge_scan_gaps") = defaults.bridge_scan_gaps)
+           py::arg("bridge_scan_gaps") = defaults.bridge_scan_gaps,
+           py::arg("threads") = defaults.threads)
       .def("extract", &PyExtractor::extract, py::arg("points"), py::arg("gravity") = py::none(),
            py::arg("quaternion") = py::none(), py::arg("pose") = py::none(),
            py::arg("transform") = py::none(), py::arg("viewpoint") = py::none(),

@@ -492,6 +492,7 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   params.merge_fragments = config.merge_fragments;
   params.max_merge_gap = config.max_merge_gap;
   params.bridge_scan_gaps = config.bridge_scan_gaps;
+  params.threads = config.threads;
   // Each part is checked on its own: a bad value keeps the last good one of its part only.
   std::lock_guard<std::mutex> lock(pending_mutex_);
   try {
@@ -518,12 +519,14 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   config.merge_fragments = p.merge_fragments;
   config.max_merge_gap = p.max_merge_gap;
   config.bridge_scan_gaps = p.bridge_scan_gaps;
+  config.threads = p.threads;
   config.tracking_mode = hope::toString(pending_tracker_.mode);
   NODELET_INFO(
       "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, fragment "
-      "merge %s (gap <= %g m), scan-gap bridging %s, tracking %s",
+      "merge %s (gap <= %g m), scan-gap bridging %s, tracking %s, %d thread(s)",
       p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area, p.merge_fragments ? "on" : "off",
-      p.max_merge_gap, p.bridge_scan_gaps ? "on" : "off", hope::toString(pending_tracker_.mode));
+      p.max_merge_gap, p.bridge_scan_gaps ? "on" : "off", hope::toString(pending_tracker_.mode),
+      p.threads);
 }
 
 void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

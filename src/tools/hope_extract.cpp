@@ -82,6 +82,11 @@ parameters
   --no-bridge            no scan-gap bridging, as in the paper (default: voxels between a
                          LiDAR's sparse rings take their normal from the next ring along the
                          sensor's ray; needs the viewpoint). LiDAR: --r-xy 0.3 --r-z 0.1
+  --threads N            threads for the passes over points and voxels (default 0: every
+                         core; the planes are the same for any number)
+  --repeat N             extract N times from the loaded input and print the first (cold)
+                         call's time and the median of the others (steady state, as in a
+                         node that keeps its buffers); outputs are from the last call
   --max-points N         refuse files claiming more points (default 100000000), so a
                          corrupt header cannot make hope allocate gigabytes
 
@@ -110,7 +115,8 @@ Options parse(int argc, char** argv) {
                                   "--labels",      "--overlay",       "--sequence",
                                   "--groundtruth", "--accelerometer", "--max-time-difference",
                                   "--tracking",    "--jsonl",         "--overlay-dir",
-                                  "--max-points",  "--viewpoint",     "--max-merge-gap"};
+                                  "--max-points",  "--viewpoint",     "--max-merge-gap",
+                                  "--threads",     "--repeat"};
   Options options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -143,6 +149,16 @@ double number(const Options& o, const std::string& key, double fallback) {
   const auto it = o.values.find(key);
   if (it == o.values.end()) return fallback;
   return hope::tools::parseNumbers(it->second, 1, key.c_str())[0];
+}
+
+// A whole-number option in [lo, hi], or `fallback` when absent.
+int wholeNumber(const Options& o, const std::string& key, int fallback, int lo, int hi) {
+  const double value = number(o, key, fallback);
+  if (!(value >= lo && value <= hi) || value != std::floor(value)) {
+    throw std::invalid_argument(key + " must be a whole number in [" + std::to_string(lo) + ", " +
+                                std::to_string(hi) + "]");
+  }
+  return static_cast<int>(value);
 }
 
 std::uint64_t maxPoints(const Options& o) {
@@ -214,6 +230,7 @@ hope::Params parameters(const Options& o) {
   params.merge_fragments = !o.no_merge;
   params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
   params.bridge_scan_gaps = !o.no_bridge;
+  params.threads = wholeNumber(o, "--threads", 0, 0, 1024);
   return params;
 }
 
@@ -385,6 +402,7 @@ int run(int argc, char** argv) {
   }
 
   hope::Extractor extractor(parameters(o));  // validates before any file is read
+  const int repeat = wholeNumber(o, "--repeat", 1, 1, 100000);
   const hope::Orientation pose = orientation(o, has_depth);
   const std::uint64_t max_points = maxPoints(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
@@ -405,10 +423,24 @@ int run(int argc, char** argv) {
     input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale);
   }
 
-  const hope::Result result = extractor.extract(input.cloud, pose);
+  hope::Result result = extractor.extract(input.cloud, pose);
+  const double cold_ms = result.timings.total_ms;
+  std::vector<double> steady_ms;
+  for (int k = 1; k < repeat; ++k) {
+    result = extractor.extract(input.cloud, pose);
+    steady_ms.push_back(result.timings.total_ms);
+  }
   for (const auto& warning : result.warnings)
     std::cerr << "hope_extract: warning: " << warning << "\n";
   if (!o.quiet) hope::tools::printTable(std::cout, result);
+  if (!o.quiet && !steady_ms.empty()) {
+    std::nth_element(steady_ms.begin(), steady_ms.begin() + steady_ms.size() / 2, steady_ms.end());
+    const double median = steady_ms[steady_ms.size() / 2];
+    std::printf(
+        "cold first call %.2f ms, steady state %.2f ms (median of %zu more calls), "
+        "%.2fx\n",
+        cold_ms, median, steady_ms.size(), cold_ms / median);
+  }
 
   if (outputs.count("--json")) {
     hope::tools::writeText(outputs.at("--json"),

@@ -134,6 +134,21 @@ class DemoRoom(unittest.TestCase):
                              [p.height for p in self.result.planes])
             np.testing.assert_array_equal(other.labels, self.result.labels)
 
+    def test_two_threads_give_identical_planes_and_labels(self):
+        other = hope.Extractor(r_xy=0.05, r_z=0.02, threads=2).extract(self.points, pose=self.pose)
+        self.assertEqual(len(other.planes), len(self.result.planes))
+        for mine, reference in zip(other.planes, self.result.planes):
+            a, b = mine.to_dict(), reference.to_dict()
+            self.assertEqual(sorted(a), sorted(b))
+            for key in a:
+                if key == "outline":  # rings of different lengths
+                    self.assertEqual(len(a[key]), len(b[key]))
+                    for ring_a, ring_b in zip(a[key], b[key]):
+                        np.testing.assert_array_equal(ring_a, ring_b, err_msg=key)
+                else:
+                    np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+        np.testing.assert_array_equal(other.labels, self.result.labels)
+
     def test_an_unorganized_copy_finds_the_same_surfaces(self):
         # N x 3 drops the image layout (the scan-gap bridging then applies), so point counts
         # may differ slightly; the surfaces and their heights may not.
@@ -212,6 +227,7 @@ class BadInput(unittest.TestCase):
 
     def test_bad_parameters_name_the_parameter(self):
         self.assertRaisesWith(ValueError, "r_xy", hope.Extractor, r_xy=-1.0)
+        self.assertRaisesWith(ValueError, "threads", hope.Extractor, threads=-1)
         self.assertRaisesWith(ValueError, "unknown tracking mode", hope.PlaneTracker, mode="nearest")
 
     def test_plane_colours_are_the_voc_map(self):

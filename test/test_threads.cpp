@@ -1,6 +1,7 @@
 // Params::threads splits the passes over points and voxels across threads; the output must not
 // depend on it. Each scene is extracted with 1, 2 and 3 threads (3: shares that do not divide
 // evenly) and every plane field, every hull vertex and every point label must be identical.
+// Also the in-place read of a z-up cloud against the aligned copy (NoCopy).
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -139,6 +140,42 @@ TEST(Threads, TumFrameIsTheSameForAnyNumberOfThreads) {
       Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw), Params(), "TUM frame");
   // The desk top, 0.78 m above the floor in the ground truth's frame (test_tum).
   EXPECT_GE(planeNear(r, 0.78, 0.03), 0) << describe(r);
+}
+
+// A z-up cloud with no rotation and no translation is read in place: the aligned points the
+// extractor exposes are the input's own memory, and the planes and labels are those of the
+// copying path (forced here by a layout whose x is not at the start of each point).
+TEST(NoCopy, ZUpCloudIsReadInPlaceWithTheSameResultAsTheAlignedCopy) {
+  const auto scan = synthetic::demoRoom().scanFromAbove(-1.0, -3.0, 5.0, 3.0, 0.01, 0.002);
+  Extractor in_place;
+  const Result direct = in_place.extract(scan.cloud, Orientation::identity());
+  EXPECT_EQ(in_place.alignedPoints().data,
+            reinterpret_cast<const std::uint8_t*>(&scan.cloud.points[0]));
+  EXPECT_EQ(in_place.alignedPoints().size(), scan.cloud.size());
+
+  struct Shifted {
+    float tag, x, y, z;
+  };
+  std::vector<Shifted> shifted;
+  for (const auto& p : scan.cloud) shifted.push_back({0.f, p.x, p.y, p.z});
+  PointsView view;
+  view.data = reinterpret_cast<const std::uint8_t*>(shifted.data());
+  view.count = shifted.size();
+  view.stride = sizeof(Shifted);
+  view.x_offset = 4, view.y_offset = 8, view.z_offset = 12;
+  view.width = static_cast<std::uint32_t>(shifted.size());
+  Extractor copying;
+  const Result copied = copying.extract(view, Orientation::identity());
+  EXPECT_NE(copying.alignedPoints().data, view.data);  // the aligned copy
+
+  ASSERT_EQ(direct.planes.size(), copied.planes.size()) << describe(direct);
+  for (std::size_t k = 0; k < direct.planes.size(); ++k) {
+    expectSamePlane(direct.planes[k], copied.planes[k], "plane " + std::to_string(k));
+  }
+  EXPECT_EQ(direct.point_labels, copied.point_labels);
+  // The truth: floor and table top.
+  EXPECT_GE(planeNear(direct, 0.0, 0.01), 0) << describe(direct);
+  EXPECT_GE(planeNear(direct, 0.75, 0.01), 0) << describe(direct);
 }
 
 }  // namespace test

@@ -80,15 +80,18 @@ class Extractor {
   }
 
   // Intermediate products of the last call, for visualization and tests. Aligned points are
-  // in the reference frame minus Result::local_origin.
-  const std::vector<Eigen::Vector3f>& alignedPoints() const { return aligned_; }
+  // in the reference frame minus Result::local_origin, one per input point, in input order.
+  // When the orientation needed no rotation and no translation, extract() made no copy and
+  // they are the input cloud itself: then they are valid only while that cloud lives.
+  AlignedPoints alignedPoints() const { return aligned_view_; }
   const VoxelGrid& grid() const { return grid_; }
   const std::vector<Eigen::Vector3f>& voxelNormals() const { return normals_; }
   const std::vector<std::uint8_t>& candidateMask() const { return is_candidate_; }
 
  private:
   Params params_;
-  std::vector<Eigen::Vector3f> aligned_;
+  std::vector<Eigen::Vector3f> aligned_;  // the aligned copy, when one is needed
+  AlignedPoints aligned_view_;            // what the stages read: aligned_ or the input
   VoxelGrid grid_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<std::uint8_t> is_candidate_;

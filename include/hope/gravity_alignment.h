@@ -68,4 +68,15 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
                            const Eigen::Vector3d& origin = Eigen::Vector3d::Zero(),
                            Eigen::AlignedBox3f* finite_box = nullptr, int threads = 1);
 
+// Whether alignToGravity would copy `input` unchanged: the orientation has no rotation and its
+// translation equals `origin`, and x, y, z are packed float32 at the start of each point. The
+// stages then read the input in place (see AlignedPoints) and only finiteBox() is needed.
+bool alignmentIsIdentity(const PointsView& input, const Orientation& orientation,
+                         const Eigen::Vector3d& origin);
+
+// The number of finite points of `input` and their box (a point with any non-finite
+// coordinate is skipped), in one read; `threads` as Params::threads. x, y, z must be packed
+// float32 at the start of each point, as alignmentIsIdentity() requires.
+std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int threads = 1);
+
 }  // namespace hope

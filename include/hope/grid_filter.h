@@ -13,6 +13,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "hope/aligned_points.h"
+
 namespace hope {
 
 // What the caller may already know about the points, to save the grid a pass or lookups.
@@ -24,6 +26,8 @@ struct GridHints {
   // without them build() reads the points once more to find them.
   std::optional<Eigen::AlignedBox3f> finite_box;
   std::size_t finite_points = 0;
+  // Threads for the pass that renumbers the points' voxels (Params::threads; 0: every core).
+  int threads = 1;
 };
 
 class VoxelGrid {
@@ -32,7 +36,7 @@ class VoxelGrid {
   // std::invalid_argument when the finite points span more than kMaxCellsPerAxis cells on
   // an axis (a unit mistake or a wild outlier; the message says which axis and how far).
   // The result does not depend on the hints.
-  void build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z,
+  void build(const AlignedPoints& aligned, double r_xy, double r_z,
              const GridHints& hints = GridHints());
 
   static constexpr std::int64_t kMaxCellsPerAxis = std::int64_t{1} << 21;
@@ -50,15 +54,9 @@ class VoxelGrid {
   int cellY(std::size_t v) const { return static_cast<int>(column_[v] / nx_); }
   int cellZ(std::size_t v) const { return iz_[v]; }
   std::uint64_t column(std::size_t v) const { return column_[v]; }
-  std::uint32_t numPointsIn(std::size_t v) const { return point_begin_[v + 1] - point_begin_[v]; }
-  // Input indices of the points in voxel v: pointsBegin(v) .. pointsEnd(v).
-  const std::uint32_t* pointsBegin(std::size_t v) const {
-    return point_order_.data() + point_begin_[v];
-  }
-  const std::uint32_t* pointsEnd(std::size_t v) const {
-    return point_order_.data() + point_begin_[v + 1];
-  }
-  // Per input point: its voxel, or -1 for non-finite points.
+  std::uint32_t numPointsIn(std::size_t v) const { return count_[v]; }
+  // Per input point: its voxel, or -1 for non-finite points. (No per-voxel point lists are
+  // kept: the few stages that need points read this once for all voxels they care about.)
   const std::vector<std::int32_t>& pointVoxel() const { return point_voxel_; }
 
   // The voxels of grid column (cx, cy) as a half-open index range; empty outside the grid.
@@ -80,12 +78,12 @@ class VoxelGrid {
   std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
   // Pass 2 of build(): every finite point's voxel, numbered in order of first appearance
   // (point_voxel_), with each voxel's key, point count and coordinate sums.
-  void assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned, std::size_t finite_points,
+  void assignPointsToVoxels(const AlignedPoints& aligned, std::size_t finite_points,
                             std::uint64_t nz, std::size_t row_width);
   std::uint32_t voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz);
   void growSlots();
-  // Pass 3: voxels renumbered in (column, z cell) order, their points listed in input order.
-  void orderVoxels(std::uint64_t nz, bool dense_columns);
+  // Pass 3: voxels renumbered in (column, z cell) order, and the points' voxels with them.
+  void orderVoxels(std::uint64_t nz, bool dense_columns, int threads);
 
   double r_xy_ = 0, r_z_ = 0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
@@ -103,14 +101,13 @@ class VoxelGrid {
   std::vector<std::uint64_t> slot_key_;
   std::vector<std::uint32_t> slot_voxel_;
   std::vector<std::uint32_t> sorted_;  // first-appearance numbers in (column, z cell) order
-  std::vector<std::uint32_t> renumber_, cursor_, counts_, by_z_;
+  std::vector<std::uint32_t> renumber_, counts_, by_z_;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> row_above_;  // key, voxel per image column
   static constexpr std::size_t kRecentVoxels = 4096;                // a power of two
   std::vector<std::pair<std::uint64_t, std::uint32_t>> recent_voxels_;  // key, voxel
 
-  std::vector<std::uint32_t> point_order_;  // input indices sorted by voxel
   std::vector<std::int32_t> point_voxel_;
-  std::vector<std::uint32_t> point_begin_;  // per voxel + 1, offsets into point_order_
+  std::vector<std::uint32_t> count_;  // points per voxel
   std::vector<Eigen::Vector3f> centroid_;
   std::vector<std::uint64_t> column_;
   std::vector<std::int32_t> iz_;

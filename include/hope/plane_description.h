@@ -19,9 +19,17 @@ enum class Detail { kFull, kVoxels };
 
 // Height, bbox, centroid, least-squares normal, footprint area, counts and convex hull of the
 // input points in the cluster's voxels. `id` and the refinement angles are left to the caller.
-HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligned,
                               const std::vector<std::uint32_t>& members,
                               Detail detail = Detail::kFull);
+
+// Completes planes described with Detail::kVoxels (planes[k] from members[k]) with what needs
+// their points: the bbox and convex hull of the points themselves, and the outline. Reads the
+// points' voxels once for all planes, so describing many planes costs one pass over the cloud,
+// not one each. The member lists must not share voxels. `threads` as Params::threads.
+void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
+                    const std::vector<const std::vector<std::uint32_t>*>& members,
+                    const std::vector<HorizontalPlane*>& planes, int threads = 1);
 
 // Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
 // than three distinct points come back as they are (deduplicated).

@@ -29,7 +29,7 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
 
 // Points in the reference frame with x y z (float32), rgb (float32, colour of the plane's id,
 // grey for none) and label (uint32: plane id + 1, 0 for none), same layout as the input.
-sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligned,
+sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
                                       const hope::Result& result, const hope::PointsView& input,
                                       const std_msgs::Header& header);
 

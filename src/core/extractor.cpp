@@ -55,14 +55,22 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   GridHints hints;
   Eigen::AlignedBox3f finite_box;
   const int threads = parallel::resolve(params_.threads);
-  result.finite_points =
-      alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box, threads);
+  if (alignmentIsIdentity(cloud, orientation, result.local_origin)) {
+    // A z-up cloud in its own frame (LiDAR, merged maps): read in place, only its box is needed.
+    result.finite_points = finiteBox(cloud, finite_box, threads);
+    aligned_.clear();
+    aligned_view_ = AlignedPoints(cloud.data, cloud.count, cloud.stride);
+  } else {
+    result.finite_points =
+        alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box, threads);
+    aligned_view_ = AlignedPoints(aligned_);
+  }
   hints.finite_box = finite_box;
   hints.finite_points = result.finite_points;
   if (cloud.organized()) hints.row_width = cloud.width;
   result.timings.alignment_ms = stage.lap();
 
-  grid_.build(aligned_, params_.r_xy, params_.r_z, hints);
+  grid_.build(aligned_view_, params_.r_xy, params_.r_z, hints);
   result.voxels = grid_.numVoxels();
   const Eigen::Vector3d extent = grid_.extent();
   // No indoor scene and few outdoor scans span a kilometre: such a cloud is almost always in
@@ -107,16 +115,15 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.refinement_ms = stage.lap();
 
-  // Description of each cluster, in the grid's coordinates (the merge works there). With the
-  // merge on, rejected clusters are described too (they may join an accepted surface), and
-  // only from their voxels: every surface is measured in full once it is complete.
+  // Description of each cluster from its voxels, in the grid's coordinates (the merge works
+  // there). With the merge on, rejected clusters are described too (they may join an accepted
+  // surface). Every surface is measured in full (its points' bbox and hull) once it is
+  // complete. The clusters are described in parallel, each on its own, then taken in order.
   const bool merge = params_.merge_fragments;
-  // The clusters are described in parallel (each on its own), then taken in cluster order.
   std::vector<HorizontalPlane> descriptions(clusters.size());
   parallel::forEach(clusters.size(), threads, [&](std::size_t c) {
     if (!accepted[c] && !merge) return;
-    descriptions[c] =
-        describePlane(grid_, aligned_, clusters[c], merge ? Detail::kVoxels : Detail::kFull);
+    descriptions[c] = describePlane(grid_, aligned_view_, clusters[c], Detail::kVoxels);
   });
   std::vector<Fragment> fragments;
   for (std::size_t c = 0; c < clusters.size(); ++c) {
@@ -159,7 +166,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     if (group.size() == 1) {
       surface.plane = std::move(fragments[largest].plane);
     } else {
-      surface.plane = describePlane(grid_, aligned_, surface.voxels, Detail::kVoxels);
+      surface.plane = describePlane(grid_, aligned_view_, surface.voxels, Detail::kVoxels);
       surface.plane.num_parts = static_cast<int>(group.size());
       // The refinement angles of the largest accepted part.
       surface.plane.mean_normal_tilt = fragments[largest].plane.mean_normal_tilt;
@@ -208,7 +215,8 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
       if (!verdict.horizontal || footprintMinorVariance(grid_, cluster) < kMinFootprintVariance) {
         continue;
       }
-      Surface surface{describePlane(grid_, aligned_, cluster, Detail::kVoxels), std::move(cluster)};
+      Surface surface{describePlane(grid_, aligned_view_, cluster, Detail::kVoxels),
+                      std::move(cluster)};
       if (surface.plane.tilt > params_.maxSlope()) continue;
       surface.plane.mean_normal_tilt = verdict.mean_tilt;
       surface.plane.group_angle = verdict.group_angle;
@@ -221,15 +229,26 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.merging_ms = stage.lap();
   if (merge) {
-    // Each surface measured in full, as the paper's planes are.
+    // Every surface measured again from its voxels now that the merge joined and completed it.
     parallel::forEach(surfaces.size(), threads, [&](std::size_t k) {
       Surface& surface = surfaces[k];
-      HorizontalPlane full = describePlane(grid_, aligned_, surface.voxels);
-      full.num_parts = surface.plane.num_parts;
-      full.mean_normal_tilt = surface.plane.mean_normal_tilt;
-      full.group_angle = surface.plane.group_angle;
-      surface.plane = std::move(full);
+      HorizontalPlane again = describePlane(grid_, aligned_view_, surface.voxels, Detail::kVoxels);
+      again.num_parts = surface.plane.num_parts;
+      again.mean_normal_tilt = surface.plane.mean_normal_tilt;
+      again.group_angle = surface.plane.group_angle;
+      surface.plane = std::move(again);
     });
+  }
+  // Each surface measured in full, as the paper's planes are: bbox and hull from the points,
+  // for all surfaces in one read of the points' voxels.
+  {
+    std::vector<const std::vector<std::uint32_t>*> members;
+    std::vector<HorizontalPlane*> planes;
+    for (Surface& surface : surfaces) {
+      members.push_back(&surface.voxels);
+      planes.push_back(&surface.plane);
+    }
+    describeInFull(grid_, aligned_view_, members, planes, threads);
   }
 
   // Ids in order, after the optional height band and minimum area; the voxels of a dropped

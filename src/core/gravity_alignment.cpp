@@ -221,4 +221,51 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
   return finite;
 }
 
+bool alignmentIsIdentity(const PointsView& input, const Orientation& orientation,
+                         const Eigen::Vector3d& origin) {
+  const Eigen::Isometry3d& t = orientation.sensorToReference();
+  return t.linear() == Eigen::Matrix3d::Identity() && t.translation() == origin &&
+         input.x_offset == 0 && input.y_offset == 4 && input.z_offset == 8 && input.stride >= 12;
+}
+
+std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int threads) {
+  constexpr int kMaxShares = 64;
+  threads = std::min(parallel::resolve(threads), kMaxShares);
+  Eigen::Vector3f lo[kMaxShares], hi[kMaxShares];
+  std::size_t finite[kMaxShares] = {};
+  const int shares = parallel::forShares(
+      input.count, threads, std::size_t{1} << 15,
+      [&](int share, std::size_t begin, std::size_t end) {
+        float lo_x = std::numeric_limits<float>::max(), lo_y = lo_x, lo_z = lo_x;
+        float hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x;
+        std::size_t n = 0;
+        const float big = std::numeric_limits<float>::max();
+        for (std::size_t i = begin; i < end; ++i) {
+          float xyz[3];  // packed at the start of each point (alignmentIsIdentity checked it)
+          std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));
+          const float x = xyz[0], y = xyz[1], z = xyz[2];
+          // Not finite (NaN or ±inf, see alignRange): the point changes neither bound. Selects
+          // rather than a branch, as scans mix finite and missing returns unpredictably.
+          const bool finite = (x - x) + (y - y) + (z - z) == 0.0f;
+          lo_x = std::min(lo_x, finite ? x : big), lo_y = std::min(lo_y, finite ? y : big);
+          lo_z = std::min(lo_z, finite ? z : big);
+          hi_x = std::max(hi_x, finite ? x : -big), hi_y = std::max(hi_y, finite ? y : -big);
+          hi_z = std::max(hi_z, finite ? z : -big);
+          n += finite ? 1 : 0;
+        }
+        lo[share] = Eigen::Vector3f(lo_x, lo_y, lo_z);
+        hi[share] = Eigen::Vector3f(hi_x, hi_y, hi_z);
+        finite[share] = n;
+      });
+  Eigen::Vector3f box_min = lo[0], box_max = hi[0];
+  std::size_t total = finite[0];
+  for (int k = 1; k < shares; ++k) {
+    box_min = box_min.cwiseMin(lo[k]);
+    box_max = box_max.cwiseMax(hi[k]);
+    total += finite[k];
+  }
+  box = Eigen::AlignedBox3f(box_min, box_max);
+  return total;
+}
+
 }  // namespace hope

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "parallel.h"
 
 namespace hope {
 
@@ -33,7 +36,7 @@ std::uint64_t cellCount(double extent, double leaf, const char* axis, const char
 
 }  // namespace
 
-void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, double r_z,
+void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
                       const GridHints& hints) {
   r_xy_ = r_xy;
   r_z_ = r_z;
@@ -45,8 +48,7 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
   centroid_.clear();
   column_.clear();
   iz_.clear();
-  point_order_.clear();
-  point_begin_.assign(1, 0);
+  count_.clear();
   dense_column_begin_.clear();
   sparse_columns_.clear();
   nx_ = ny_ = 1;
@@ -62,7 +64,7 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
     hi = hints.finite_box->max();
   } else {
     for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3f& p = aligned[i];
+      const Eigen::Vector3f p = aligned[i];
       if (!p.allFinite()) continue;
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
@@ -79,7 +81,7 @@ void VoxelGrid::build(const std::vector<Eigen::Vector3f>& aligned, double r_xy, 
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
   assignPointsToVoxels(aligned, m, nz, hints.row_width);
-  orderVoxels(nz, nx_ * ny_ <= denseColumnLimit(m));
+  orderVoxels(nz, nx_ * ny_ <= denseColumnLimit(m), hints.threads);
 }
 
 namespace {
@@ -94,9 +96,8 @@ std::size_t slotOf(std::uint64_t key, std::size_t mask) {
 // One read of the points in input order. Points that follow each other in a scan or an image
 // mostly share a voxel, so the last voxel is checked before the hash table. Summing each
 // voxel's points in input order keeps the centroids independent of how voxels are numbered.
-void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned,
-                                     std::size_t finite_points, std::uint64_t nz,
-                                     std::size_t row_width) {
+void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::size_t finite_points,
+                                     std::uint64_t nz, std::size_t row_width) {
   found_key_.clear();
   found_column_.clear();
   found_iz_.clear();
@@ -120,23 +121,43 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
   };
   row_above_.assign(row_width, {kEmptySlot, 0});
   recent_voxels_.assign(kRecentVoxels, {kEmptySlot, 0});
+  // Everything the loop touches per point lives in locals: a store through point_voxel or
+  // into a table could otherwise alias a member, and the compiler would reload them all after
+  // every point. The current voxel's count and coordinate sums are carried in registers while
+  // its run of points lasts, starting from (and written back to) its stored totals, so each
+  // voxel's points are still summed one by one in input order.
+  const std::uint64_t nx = nx_, ny = ny_;
+  const std::uint8_t* data = aligned.data;
+  const std::size_t stride = aligned.stride;
+  std::int32_t* point_voxel = point_voxel_.data();
+  std::pair<std::uint64_t, std::uint32_t>* row_above = row_above_.data();
   std::size_t column_in_row = 0;
   std::uint64_t last_key = kEmptySlot;
-  std::uint32_t last_voxel = 0;
-  for (std::size_t i = 0; i < aligned.size(); ++i) {
-    const Eigen::Vector3f& p = aligned[i];
+  std::uint32_t last_voxel = 0, run = 0;
+  double sum_x = 0, sum_y = 0, sum_z = 0;
+  auto storeRun = [&]() {
+    if (run == 0) return;
+    found_count_[last_voxel] += run;
+    found_sum_[last_voxel] = Eigen::Vector3d(sum_x, sum_y, sum_z);
+  };
+  const std::size_t n = aligned.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    float xyz[3];
+    std::memcpy(xyz, data + i * stride, sizeof(xyz));
     std::pair<std::uint64_t, std::uint32_t>* above = nullptr;
     if (row_width > 0) {
-      above = &row_above_[column_in_row];
+      above = &row_above[column_in_row];
       if (++column_in_row == row_width) column_in_row = 0;
     }
-    if (!p.allFinite()) continue;
-    const std::uint64_t ix = cell(p.x() - ox, inv_xy, nx_);
-    const std::uint64_t iy = cell(p.y() - oy, inv_xy, ny_);
-    const std::uint64_t iz = cell(p.z() - oz, inv_z, nz);
-    const std::uint64_t column = ix + nx_ * iy;
+    if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) continue;  // NaN/inf
+    const double px = xyz[0], py = xyz[1], pz = xyz[2];
+    const std::uint64_t ix = cell(px - ox, inv_xy, nx);
+    const std::uint64_t iy = cell(py - oy, inv_xy, ny);
+    const std::uint64_t iz = cell(pz - oz, inv_z, nz);
+    const std::uint64_t column = ix + nx * iy;
     const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
     if (key != last_key) {
+      storeRun();
       last_key = key;
       if (above && above->first == key) {
         last_voxel = above->second;
@@ -148,12 +169,16 @@ void VoxelGrid::assignPointsToVoxels(const std::vector<Eigen::Vector3f>& aligned
         if (recent.first != key) recent = {key, voxelOfKey(key, column, iz)};
         last_voxel = recent.second;
       }
+      const Eigen::Vector3d& stored = found_sum_[last_voxel];
+      sum_x = stored.x(), sum_y = stored.y(), sum_z = stored.z();
+      run = 0;
     }
     if (above) *above = {key, last_voxel};
-    point_voxel_[i] = static_cast<std::int32_t>(last_voxel);
-    ++found_count_[last_voxel];
-    found_sum_[last_voxel] += p.cast<double>();
+    point_voxel[i] = static_cast<std::int32_t>(last_voxel);
+    ++run;
+    sum_x += px, sum_y += py, sum_z += pz;
   }
+  storeRun();
 }
 
 std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz) {
@@ -188,8 +213,8 @@ void VoxelGrid::growSlots() {
 }
 
 // Voxels sorted by key, i.e. by column (x-major within each row of y) and inside a column by
-// z cell; then one more read of the per-point voxels lists each voxel's points in input order.
-void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns) {
+// z cell; then the points' voxels are renumbered (each point on its own: split across threads).
+void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns, int threads) {
   const std::size_t num_voxels = found_key_.size();
   sorted_.resize(num_voxels);
   if (dense_columns) {
@@ -216,26 +241,24 @@ void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns) {
   column_.resize(num_voxels);
   iz_.resize(num_voxels);
   centroid_.resize(num_voxels);
-  point_begin_.resize(num_voxels + 1);
-  point_begin_[0] = 0;
+  count_.resize(num_voxels);
   for (std::size_t r = 0; r < num_voxels; ++r) {
     const std::uint32_t found = sorted_[r];
     renumber_[found] = static_cast<std::uint32_t>(r);
     column_[r] = found_column_[found];
     iz_[r] = static_cast<std::int32_t>(found_iz_[found]);
-    const std::uint32_t count = found_count_[found];
-    centroid_[r] = (found_sum_[found] / static_cast<double>(count)).cast<float>();
-    point_begin_[r + 1] = point_begin_[r] + count;
+    count_[r] = found_count_[found];
+    centroid_[r] = (found_sum_[found] / static_cast<double>(count_[r])).cast<float>();
   }
-  point_order_.resize(point_begin_[num_voxels]);
-  cursor_.assign(point_begin_.begin(), point_begin_.end() - 1);
-  for (std::size_t i = 0; i < point_voxel_.size(); ++i) {
-    const std::int32_t found = point_voxel_[i];
-    if (found < 0) continue;
-    const std::uint32_t r = renumber_[found];
-    point_voxel_[i] = static_cast<std::int32_t>(r);
-    point_order_[cursor_[r]++] = static_cast<std::uint32_t>(i);
-  }
+  parallel::forShares(point_voxel_.size(), parallel::resolve(threads), std::size_t{1} << 15,
+                      [this](int /*share*/, std::size_t begin, std::size_t end) {
+                        for (std::size_t i = begin; i < end; ++i) {
+                          const std::int32_t found = point_voxel_[i];
+                          if (found >= 0) {
+                            point_voxel_[i] = static_cast<std::int32_t>(renumber_[found]);
+                          }
+                        }
+                      });
 
   if (dense_columns) {
     dense_column_begin_.assign(nx_ * ny_ + 1, 0);

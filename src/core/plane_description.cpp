@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "hope/plane_outline.h"
+#include "parallel.h"
 
 namespace hope {
 
@@ -152,7 +153,7 @@ std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
-HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& aligned,
+HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligned,
                               const std::vector<std::uint32_t>& members, Detail detail) {
   HorizontalPlane plane;
   plane.num_voxels = members.size();
@@ -165,43 +166,20 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-  // Hull candidates: every point of the voxels at the plane's rim (see InteriorTest); the
-  // surrounded voxels' points are inside the hull.
-  std::vector<Eigen::Vector2d> hull_candidates;
   std::vector<std::uint64_t> columns;
   columns.reserve(members.size());
   std::size_t count = 0;
-  const InteriorTest interior =
-      detail == Detail::kFull ? InteriorTest(grid, members) : InteriorTest();
-
   for (std::uint32_t v : members) {
     columns.push_back(grid.column(v));
-    const std::uint32_t* begin = grid.pointsBegin(v);
-    const std::uint32_t* end = grid.pointsEnd(v);
-    const double weight = static_cast<double>(end - begin);
+    const double weight = static_cast<double>(grid.numPointsIn(v));
     const Eigen::Vector3d d = grid.centroid(v).cast<double>() - ref;
     sum += weight * d;
     outer.noalias() += weight * d * d.transpose();
-    count += static_cast<std::size_t>(end - begin);
-    if (detail == Detail::kVoxels) {
-      const double x0 = grid.cellMinX(grid.cellX(v)), y0 = grid.cellMinY(grid.cellY(v));
-      lo = lo.cwiseMin(Eigen::Vector2d(x0, y0));
-      hi = hi.cwiseMax(Eigen::Vector2d(x0 + grid.rXY(), y0 + grid.rXY()));
-      continue;
-    }
-    if (interior(grid.cellX(v), grid.cellY(v))) {
-      // No point of this voxel can be a hull vertex, nor extend the bbox (the plane has cells
-      // beyond it on every side); only its count matters.
-      continue;
-    }
-    // A voxel at the plane's rim: every point is a hull candidate (a vertex need not be a
-    // voxel's extreme in x or y: one at a cell's corner can stick out diagonally).
-    for (const std::uint32_t* it = begin; it != end; ++it) {
-      const Eigen::Vector3f& p = aligned[*it];
-      hull_candidates.emplace_back(p.x(), p.y());
-      lo = lo.cwiseMin(hull_candidates.back());
-      hi = hi.cwiseMax(hull_candidates.back());
-    }
+    count += grid.numPointsIn(v);
+    // The occupied cells' box; Detail::kFull replaces it with the points' own.
+    const double x0 = grid.cellMinX(grid.cellX(v)), y0 = grid.cellMinY(grid.cellY(v));
+    lo = lo.cwiseMin(Eigen::Vector2d(x0, y0));
+    hi = hi.cwiseMax(Eigen::Vector2d(x0 + grid.rXY(), y0 + grid.rXY()));
   }
 
   plane.num_points = count;
@@ -223,23 +201,77 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const std::vector<Eigen::Ve
   const auto distinct = std::unique(columns.begin(), columns.end()) - columns.begin();
   plane.area = static_cast<double>(distinct) * grid.rXY() * grid.rXY();
 
-  if (detail == Detail::kVoxels) return plane;
-  for (const Eigen::Vector2d& h : convexHull2D(std::move(hull_candidates))) {
-    plane.hull.emplace_back(h.x(), h.y(), plane.height);
-  }
-  std::vector<std::pair<std::int64_t, std::int64_t>> cells;
-  cells.reserve(members.size());
-  for (std::uint32_t v : members) cells.emplace_back(grid.cellX(v), grid.cellY(v));
-  // Within three quarters of a cell: a staircase along a diagonal edge becomes one line.
-  const auto rings =
-      traceOutline(std::move(cells), Eigen::Vector2d(grid.cellMinX(0), grid.cellMinY(0)),
-                   grid.rXY(), 0.75 * grid.rXY());
-  for (const auto& ring : rings) {
-    plane.outline.emplace_back();
-    for (const Eigen::Vector2d& q : ring)
-      plane.outline.back().emplace_back(q.x(), q.y(), plane.height);
-  }
+  if (detail == Detail::kFull) describeInFull(grid, aligned, {&members}, {&plane});
   return plane;
+}
+
+void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
+                    const std::vector<const std::vector<std::uint32_t>*>& members,
+                    const std::vector<HorizontalPlane*>& planes, int threads) {
+  const std::size_t num_planes = planes.size();
+  if (num_planes == 0) return;
+  threads = parallel::resolve(threads);
+  // The plane of each voxel at a plane's rim (see InteriorTest); -1 for the others, whose
+  // points are inside their plane's hull and within its bbox.
+  std::vector<std::int32_t> rim_owner(grid.numVoxels(), -1);
+  parallel::forEach(num_planes, threads, [&](std::size_t k) {
+    if (members[k]->empty()) return;
+    const InteriorTest interior(grid, *members[k]);
+    for (std::uint32_t v : *members[k]) {
+      if (!interior(grid.cellX(v), grid.cellY(v))) rim_owner[v] = static_cast<std::int32_t>(k);
+    }
+  });
+  // One read of the points' voxels for all planes: each share of the points collects its hull
+  // candidates per plane (every point of a rim voxel: a vertex need not be a voxel's extreme
+  // in x or y, one at a cell's corner can stick out diagonally).
+  constexpr int kMaxShares = 64;
+  std::vector<std::vector<Eigen::Vector2d>> candidates[kMaxShares];
+  const std::vector<std::int32_t>& point_voxel = grid.pointVoxel();
+  const int shares =
+      parallel::forShares(point_voxel.size(), std::min(threads, kMaxShares), std::size_t{1} << 15,
+                          [&](int share, std::size_t begin, std::size_t end) {
+                            std::vector<std::vector<Eigen::Vector2d>>& mine = candidates[share];
+                            mine.assign(num_planes, {});
+                            for (std::size_t i = begin; i < end; ++i) {
+                              const std::int32_t v = point_voxel[i];
+                              if (v < 0) continue;
+                              const std::int32_t k = rim_owner[static_cast<std::size_t>(v)];
+                              if (k < 0) continue;
+                              const Eigen::Vector3f p = aligned[i];
+                              mine[static_cast<std::size_t>(k)].emplace_back(p.x(), p.y());
+                            }
+                          });
+  parallel::forEach(num_planes, threads, [&](std::size_t k) {
+    HorizontalPlane& plane = *planes[k];
+    if (members[k]->empty()) return;
+    std::vector<Eigen::Vector2d> points = std::move(candidates[0][k]);
+    for (int s = 1; s < shares; ++s) {
+      points.insert(points.end(), candidates[s][k].begin(), candidates[s][k].end());
+    }
+    Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+    for (const Eigen::Vector2d& q : points) {
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    plane.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
+    plane.hull.clear();
+    for (const Eigen::Vector2d& h : convexHull2D(std::move(points))) {
+      plane.hull.emplace_back(h.x(), h.y(), plane.height);
+    }
+    std::vector<std::pair<std::int64_t, std::int64_t>> cells;
+    cells.reserve(members[k]->size());
+    for (std::uint32_t v : *members[k]) cells.emplace_back(grid.cellX(v), grid.cellY(v));
+    // Within three quarters of a cell: a staircase along a diagonal edge becomes one line.
+    const auto rings =
+        traceOutline(std::move(cells), Eigen::Vector2d(grid.cellMinX(0), grid.cellMinY(0)),
+                     grid.rXY(), 0.75 * grid.rXY());
+    plane.outline.clear();
+    for (const auto& ring : rings) {
+      plane.outline.emplace_back();
+      for (const Eigen::Vector2d& q : ring)
+        plane.outline.back().emplace_back(q.x(), q.y(), plane.height);
+    }
+  });
 }
 
 }  // namespace hope

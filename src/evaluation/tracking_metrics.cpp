@@ -147,8 +147,8 @@ double IdentityF1::score() const {
   return 2.0 * true_positive / (predicted_ + true_);
 }
 
-std::map<int, double> trueAreas(const std::vector<Eigen::Vector3f>& points,
-                                const std::vector<int>& labels, double cell) {
+std::map<int, double> trueAreas(const AlignedPoints& points, const std::vector<int>& labels,
+                                double cell) {
   if (points.size() != labels.size()) {
     throw std::invalid_argument("trueAreas: one label per point needed");
   }

@@ -151,7 +151,7 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
   return msg;
 }
 
-sensor_msgs::PointCloud2 labeledCloud(const std::vector<Eigen::Vector3f>& aligned,
+sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
                                       const hope::Result& result, const hope::PointsView& input,
                                       const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 out;

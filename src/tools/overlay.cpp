@@ -93,9 +93,10 @@ cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_co
   return image;
 }
 
-cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result& result) {
+cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result) {
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(HUGE_VALF), hi = -lo;
-  for (const auto& p : aligned) {
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    const Eigen::Vector3f p = aligned[i];
     if (!p.allFinite()) continue;
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
@@ -114,7 +115,7 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
   cv::Mat top_z(h, w, CV_32FC1, cv::Scalar(-HUGE_VALF));
   const float z_span = std::max(hi.z() - lo.z(), 1e-3f);
   for (std::size_t i = 0; i < aligned.size(); ++i) {
-    const Eigen::Vector3f& p = aligned[i];
+    const Eigen::Vector3f p = aligned[i];
     if (!p.allFinite()) continue;
     const cv::Point px = toPixel(p.x(), p.y());
     float& z = top_z.at<float>(px);
@@ -144,7 +145,7 @@ cv::Mat topDownOverlay(const std::vector<Eigen::Vector3f>& aligned, const Result
 }  // namespace
 
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
-                      const std::vector<Eigen::Vector3f>& aligned, const Result& result) {
+                      const AlignedPoints& aligned, const Result& result) {
   // A camera's image is at most a few times wider than high; a spinning LiDAR's rings x azimuth
   // layout (16-128 rows, 1000-4000 columns) reads better from above.
   const bool image_like = cloud.height > 1 && cloud.width <= 4 * cloud.height;

@@ -80,8 +80,8 @@ class IdentityF1 {
 
 // The area (m², cells of `cell` metres in xy) of the points of each label >= 0: a surface's
 // true footprint in the frame `points` are in (NaN points are skipped).
-std::map<int, double> trueAreas(const std::vector<Eigen::Vector3f>& points,
-                                const std::vector<int>& labels, double cell);
+std::map<int, double> trueAreas(const AlignedPoints& points, const std::vector<int>& labels,
+                                double cell);
 
 }  // namespace evaluation
 }  // namespace hope

@@ -23,7 +23,7 @@ cv::Vec3b planeColor(int id);
 // "id: height" written on it. Otherwise (unorganized, or a LiDAR's rings x azimuth): a
 // top-down view of the aligned points, planes tinted, outlines drawn and labelled.
 cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
-                      const std::vector<Eigen::Vector3f>& aligned, const Result& result);
+                      const AlignedPoints& aligned, const Result& result);
 
 // A top-down view of `points` over [x0, x1] × [y0, y1] on a `size`-pixel square, each point
 // coloured by its label (VOC colour label + 1; label -1 grey, shaded by height).

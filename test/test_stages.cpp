@@ -76,10 +76,12 @@ TEST(GridFilter, SparseWideCloudsTakeTheHashPathWithTheSameResult) {
 
 // The grid filter as the paper describes it, written the plain way: the box of the finite
 // points, each point's cell, a sorted map from (column, z cell) to the points in input order,
-// centroids summed in double in input order. The optimized VoxelGrid must give exactly this.
+// centroids summed in double in input order within each chunk of kPointsPerChunk points and
+// the chunks' sums added in chunk order (the grid's documented summation order). The
+// optimized VoxelGrid must give exactly this.
 struct ReferenceVoxel {
   std::vector<std::uint32_t> points;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::map<std::size_t, Eigen::Vector3d> chunk_sums;  // by chunk, in chunk order
 };
 
 void expectSameAsReference(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& pts,
@@ -108,15 +110,17 @@ void expectSameAsReference(const VoxelGrid& grid, const std::vector<Eigen::Vecto
         static_cast<std::uint64_t>((p.z() - origin.z()) * (1.0 / r_z)), nz - 1);
     ReferenceVoxel& voxel = voxels[{ix + nx * iy, iz}];
     voxel.points.push_back(static_cast<std::uint32_t>(i));
-    voxel.sum += p.cast<double>();
+    auto chunk = voxel.chunk_sums.emplace(i / VoxelGrid::kPointsPerChunk, Eigen::Vector3d::Zero());
+    chunk.first->second += p.cast<double>();
   }
   ASSERT_EQ(grid.numVoxels(), voxels.size());
   std::size_t v = 0;
   for (const auto& [key, voxel] : voxels) {
     EXPECT_EQ(grid.column(v), key.first);
     EXPECT_EQ(static_cast<std::uint64_t>(grid.cellZ(v)), key.second);
-    const Eigen::Vector3f centroid =
-        (voxel.sum / static_cast<double>(voxel.points.size())).cast<float>();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& chunk : voxel.chunk_sums) sum += chunk.second;
+    const Eigen::Vector3f centroid = (sum / static_cast<double>(voxel.points.size())).cast<float>();
     EXPECT_EQ(grid.centroid(v), centroid) << "voxel " << v;  // bit for bit
     ASSERT_EQ(grid.numPointsIn(v), voxel.points.size());
     for (const std::uint32_t i : voxel.points) {
@@ -183,6 +187,54 @@ TEST(GridFilter, EqualsThePlainReferenceOnShuffledNoisyAndSparseClouds) {
   expectSameAsReference(grid, image, 0.009, 0.002);
   grid.build(image, 0.05, 0.02, hints);
   expectSameAsReference(grid, image, 0.05, 0.02);
+}
+
+// With threads the point pass runs in shares on tables of their own, merged in share order,
+// and the sums are taken per voxel owner: the result must still be the plain reference, bit
+// for bit, for shares that split image rows and voxels' runs anywhere.
+TEST(GridFilter, ThreadedPassEqualsThePlainReference) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> uniform(0.f, 1.f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // 300 000 scattered points (one in ten NaN) and a 640 x 480 wavy "image" with NaN holes.
+  std::vector<Eigen::Vector3f> scattered;
+  for (int i = 0; i < 300000; ++i) {
+    if (i % 10 == 3) {
+      scattered.emplace_back(nan, 0.f, 0.f);
+    } else {
+      scattered.emplace_back(4 * uniform(rng), 4 * uniform(rng), uniform(rng));
+    }
+  }
+  std::vector<Eigen::Vector3f> image;
+  Eigen::AlignedBox3f box;
+  std::size_t finite = 0;
+  for (int row = 0; row < 480; ++row) {
+    for (int col = 0; col < 640; ++col) {
+      if ((row * 7 + col * 3) % 23 == 0) {
+        image.emplace_back(nan, nan, nan);
+        continue;
+      }
+      const Eigen::Vector3f p(0.004f * col, 0.005f * row, 0.03f * std::sin(0.05f * (col + row)));
+      image.push_back(p);
+      box.extend(p);
+      ++finite;
+    }
+  }
+  VoxelGrid grid;
+  for (int threads : {2, 3}) {
+    GridHints plain;
+    plain.threads = threads;
+    grid.build(scattered, 0.05, 0.02, plain);
+    expectSameAsReference(grid, scattered, 0.05, 0.02);
+    GridHints organized = plain;
+    organized.row_width = 640;
+    organized.finite_box = box;
+    organized.finite_points = finite;
+    grid.build(image, 0.009, 0.002, organized);
+    expectSameAsReference(grid, image, 0.009, 0.002);
+    grid.build(image, 0.05, 0.02, organized);
+    expectSameAsReference(grid, image, 0.05, 0.02);
+  }
 }
 
 TEST(GridFilter, ACloudSpanningMoreCellsThanSupportedIsAClearError) {

@@ -26,9 +26,43 @@ struct GridHints {
   // without them build() reads the points once more to find them.
   std::optional<Eigen::AlignedBox3f> finite_box;
   std::size_t finite_points = 0;
-  // Threads for the pass that renumbers the points' voxels (Params::threads; 0: every core).
+  // Threads for the point passes (Params::threads; 0: every core). The result does not depend
+  // on it.
   int threads = 1;
 };
+
+namespace detail {
+
+// Voxels in order of first appearance: key (column · nz + z cell) and its two parts, point
+// count and coordinate sums (double, each voxel's points added in input order).
+struct VoxelList {
+  std::vector<std::uint64_t> key, column;
+  std::vector<std::uint32_t> iz, count;
+  std::vector<Eigen::Vector3d> sum;
+  void clear();
+  std::size_t size() const { return key.size(); }
+};
+
+// From key to its number in a VoxelList: an open-addressing hash table (slots cleared one by
+// one after use, so a small list costs little however large the table grew), with a small
+// direct-mapped table of recently seen voxels and the voxel of each image column's point in
+// the row above (organized clouds) in front of it. One per thread, reused across chunks and
+// frames.
+struct VoxelIndex {
+  std::vector<std::uint64_t> slot_key;
+  std::vector<std::uint32_t> slot_voxel, voxel_slot;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> recent, row_above;  // key, voxel
+
+  // Empties the index (for a new list) and sizes the row-above table.
+  void reset(std::size_t row_width);
+  // The number of `key` in `list`, appended (count and sum zero) when new.
+  std::uint32_t voxelOf(std::uint64_t key, std::uint64_t column, std::uint64_t iz, VoxelList& list);
+
+ private:
+  void grow();
+};
+
+}  // namespace detail
 
 class VoxelGrid {
  public:
@@ -40,6 +74,11 @@ class VoxelGrid {
              const GridHints& hints = GridHints());
 
   static constexpr std::int64_t kMaxCellsPerAxis = std::int64_t{1} << 21;
+  // The points are voxelized in chunks of this many (input order), on as many threads as
+  // GridHints::threads allows; each voxel's coordinates are summed in input order within a
+  // chunk and the chunks' sums added in chunk order. The chunks do not depend on the number of
+  // threads, so neither does the result.
+  static constexpr std::size_t kPointsPerChunk = std::size_t{1} << 16;
 
   std::size_t numVoxels() const { return centroid_.size(); }
   double rXY() const { return r_xy_; }
@@ -76,12 +115,12 @@ class VoxelGrid {
 
  private:
   std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
-  // Pass 2 of build(): every finite point's voxel, numbered in order of first appearance
-  // (point_voxel_), with each voxel's key, point count and coordinate sums.
-  void assignPointsToVoxels(const AlignedPoints& aligned, std::size_t finite_points,
-                            std::uint64_t nz, std::size_t row_width);
-  std::uint32_t voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz);
-  void growSlots();
+  // Pass 2 of build(): each chunk's points assigned to the chunk's own voxels (point_voxel_
+  // holds the chunk's voxel numbers), on up to `threads` threads; then the chunks' voxels
+  // merged in chunk order into found_, which numbers every voxel by its first appearance in
+  // the cloud, with its key, point count and coordinate sums.
+  void assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, std::size_t row_width,
+                            int threads);
   // Pass 3: voxels renumbered in (column, z cell) order, and the points' voxels with them.
   void orderVoxels(std::uint64_t nz, bool dense_columns, int threads);
 
@@ -90,21 +129,14 @@ class VoxelGrid {
   Eigen::Vector3d extent_ = Eigen::Vector3d::Zero();
   std::uint64_t nx_ = 1, ny_ = 1;
 
-  // Voxels in order of first appearance while points are assigned: key (column · nz + z cell)
-  // and its two parts, point count and coordinate sums (double, summed in input order); an
-  // open-addressing hash table from key to that number (kEmptySlot where free). Reused across
-  // frames.
-  std::vector<std::uint64_t> found_key_, found_column_;
-  std::vector<std::uint32_t> found_iz_;
-  std::vector<std::uint32_t> found_count_;
-  std::vector<Eigen::Vector3d> found_sum_;
-  std::vector<std::uint64_t> slot_key_;
-  std::vector<std::uint32_t> slot_voxel_;
-  std::vector<std::uint32_t> sorted_;  // first-appearance numbers in (column, z cell) order
+  std::vector<detail::VoxelIndex> indexes_;  // one per thread
+  std::vector<detail::VoxelList> chunks_;    // the voxels of each chunk of points
+  detail::VoxelIndex merged_index_;
+  detail::VoxelList found_;                 // all voxels, numbered by first appearance
+  std::vector<std::uint32_t> chunk_begin_;  // per chunk: offset of its voxels in to_found_
+  std::vector<std::uint32_t> to_found_;     // chunk voxel → voxel of found_
+  std::vector<std::uint32_t> sorted_;       // first-appearance numbers in (column, z cell) order
   std::vector<std::uint32_t> renumber_, counts_, by_z_;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> row_above_;  // key, voxel per image column
-  static constexpr std::size_t kRecentVoxels = 4096;                // a power of two
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> recent_voxels_;  // key, voxel
 
   std::vector<std::int32_t> point_voxel_;
   std::vector<std::uint32_t> count_;  // points per voxel

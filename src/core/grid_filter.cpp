@@ -80,68 +80,58 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   ny_ = cellCount(extent.y(), r_xy, "y", "r_xy");
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
-  assignPointsToVoxels(aligned, m, nz, hints.row_width);
+  assignPointsToVoxels(aligned, nz, hints.row_width, parallel::resolve(hints.threads));
   orderVoxels(nz, nx_ * ny_ <= denseColumnLimit(m), hints.threads);
 }
 
 namespace {
+
 constexpr std::uint64_t kEmptySlot = std::numeric_limits<std::uint64_t>::max();
+constexpr std::size_t kRecentVoxels = 4096;  // a power of two
 
 // Fibonacci hashing: spreads consecutive keys (neighbouring z cells) over the table.
 std::size_t slotOf(std::uint64_t key, std::size_t mask) {
   return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
 }
-}  // namespace
 
-// One read of the points in input order. Points that follow each other in a scan or an image
-// mostly share a voxel, so the last voxel is checked before the hash table. Summing each
-// voxel's points in input order keeps the centroids independent of how voxels are numbered.
-void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::size_t finite_points,
-                                     std::uint64_t nz, std::size_t row_width) {
-  found_key_.clear();
-  found_column_.clear();
-  found_iz_.clear();
-  found_count_.clear();
-  found_sum_.clear();
-  // Start at last frame's size (growing costs rehashes), but never above what this cloud can
-  // fill (at most one voxel per finite point, half the slots used).
-  std::size_t capacity = 4096;
-  while (capacity < slot_key_.size() && capacity < 2 * finite_points) capacity *= 2;
-  slot_key_.assign(capacity, kEmptySlot);
-  slot_voxel_.assign(capacity, 0);
-
-  const double inv_xy = 1.0 / r_xy_, inv_z = 1.0 / r_z_;
-  const double ox = origin_.x(), oy = origin_.y(), oz = origin_.z();
+// The cell arithmetic of the point pass, in locals the compiler can keep in registers.
+struct CellMath {
+  double ox, oy, oz, inv_xy, inv_z;
+  std::uint64_t nx, ny, nz;
   // (p - origin) / leaf is never negative here, so the cheaper signed conversion truncates
   // exactly as an unsigned one would. Clamping guards against the floating-point case where
   // it lands exactly on the cell count.
-  auto cell = [](double offset, double inverse_leaf, std::uint64_t cells) {
+  static std::uint64_t cell(double offset, double inverse_leaf, std::uint64_t cells) {
     return std::min(static_cast<std::uint64_t>(static_cast<std::int64_t>(offset * inverse_leaf)),
                     cells - 1);
-  };
-  row_above_.assign(row_width, {kEmptySlot, 0});
-  recent_voxels_.assign(kRecentVoxels, {kEmptySlot, 0});
-  // Everything the loop touches per point lives in locals: a store through point_voxel or
-  // into a table could otherwise alias a member, and the compiler would reload them all after
-  // every point. The current voxel's count and coordinate sums are carried in registers while
-  // its run of points lasts, starting from (and written back to) its stored totals, so each
-  // voxel's points are still summed one by one in input order.
-  const std::uint64_t nx = nx_, ny = ny_;
+  }
+};
+
+// Assigns the points [begin, end) to voxels of `list` through `index`, writing the list's
+// voxel numbers to point_voxel, counting and summing each voxel's points in input order.
+// Points that follow each other in a scan or an image mostly share a voxel, so the last voxel
+// is checked first, then (organized clouds) the voxel of the point one row up, then recently
+// seen voxels, and only then the hash table. Everything the loop touches per point lives in
+// locals: a store through point_voxel or into a table could otherwise alias a member, and the
+// compiler would reload them after every point. The current voxel's count and coordinate sums
+// are carried in registers while its run of points lasts, starting from (and written back to)
+// its stored totals, so each voxel's points are still added one by one in input order.
+void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t end,
+                 const CellMath& g, std::size_t row_width, detail::VoxelIndex& index,
+                 detail::VoxelList& list, std::int32_t* point_voxel) {
   const std::uint8_t* data = aligned.data;
   const std::size_t stride = aligned.stride;
-  std::int32_t* point_voxel = point_voxel_.data();
-  std::pair<std::uint64_t, std::uint32_t>* row_above = row_above_.data();
-  std::size_t column_in_row = 0;
+  std::pair<std::uint64_t, std::uint32_t>* row_above = index.row_above.data();
+  std::size_t column_in_row = row_width > 0 ? begin % row_width : 0;
   std::uint64_t last_key = kEmptySlot;
   std::uint32_t last_voxel = 0, run = 0;
   double sum_x = 0, sum_y = 0, sum_z = 0;
   auto storeRun = [&]() {
     if (run == 0) return;
-    found_count_[last_voxel] += run;
-    found_sum_[last_voxel] = Eigen::Vector3d(sum_x, sum_y, sum_z);
+    list.count[last_voxel] += run;
+    list.sum[last_voxel] = Eigen::Vector3d(sum_x, sum_y, sum_z);
   };
-  const std::size_t n = aligned.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     float xyz[3];
     std::memcpy(xyz, data + i * stride, sizeof(xyz));
     std::pair<std::uint64_t, std::uint32_t>* above = nullptr;
@@ -151,11 +141,11 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::size_t f
     }
     if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) continue;  // NaN/inf
     const double px = xyz[0], py = xyz[1], pz = xyz[2];
-    const std::uint64_t ix = cell(px - ox, inv_xy, nx);
-    const std::uint64_t iy = cell(py - oy, inv_xy, ny);
-    const std::uint64_t iz = cell(pz - oz, inv_z, nz);
-    const std::uint64_t column = ix + nx * iy;
-    const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
+    const std::uint64_t ix = CellMath::cell(px - g.ox, g.inv_xy, g.nx);
+    const std::uint64_t iy = CellMath::cell(py - g.oy, g.inv_xy, g.ny);
+    const std::uint64_t iz = CellMath::cell(pz - g.oz, g.inv_z, g.nz);
+    const std::uint64_t column = ix + g.nx * iy;
+    const std::uint64_t key = column * g.nz + iz;  // < 2^42 · 2^21
     if (key != last_key) {
       storeRun();
       last_key = key;
@@ -165,11 +155,11 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::size_t f
         // Noise makes neighbouring points alternate between a few voxels of one column:
         // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache)
         // in front of the large hash table.
-        auto& recent = recent_voxels_[key & (kRecentVoxels - 1)];
-        if (recent.first != key) recent = {key, voxelOfKey(key, column, iz)};
+        auto& recent = index.recent[key & (kRecentVoxels - 1)];
+        if (recent.first != key) recent = {key, index.voxelOf(key, column, iz, list)};
         last_voxel = recent.second;
       }
-      const Eigen::Vector3d& stored = found_sum_[last_voxel];
+      const Eigen::Vector3d& stored = list.sum[last_voxel];
       sum_x = stored.x(), sum_y = stored.y(), sum_z = stored.z();
       run = 0;
     }
@@ -181,61 +171,138 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::size_t f
   storeRun();
 }
 
-std::uint32_t VoxelGrid::voxelOfKey(std::uint64_t key, std::uint64_t column, std::uint64_t iz) {
-  const std::size_t mask = slot_key_.size() - 1;
-  std::size_t slot = slotOf(key, mask);
-  while (slot_key_[slot] != kEmptySlot) {
-    if (slot_key_[slot] == key) return slot_voxel_[slot];
+}  // namespace
+
+namespace detail {
+
+void VoxelList::clear() {
+  key.clear();
+  column.clear();
+  iz.clear();
+  count.clear();
+  sum.clear();
+}
+
+void VoxelIndex::reset(std::size_t row_width) {
+  if (slot_key.empty()) {
+    slot_key.assign(4096, kEmptySlot);
+    slot_voxel.assign(4096, 0);
+  }
+  // Only the slots in use are cleared: the table keeps the size the largest list needed.
+  for (const std::uint32_t slot : voxel_slot) slot_key[slot] = kEmptySlot;
+  voxel_slot.clear();
+  recent.assign(kRecentVoxels, {kEmptySlot, 0});
+  row_above.assign(row_width, {kEmptySlot, 0});
+}
+
+std::uint32_t VoxelIndex::voxelOf(std::uint64_t k, std::uint64_t c, std::uint64_t z,
+                                  VoxelList& list) {
+  const std::size_t mask = slot_key.size() - 1;
+  std::size_t slot = slotOf(k, mask);
+  while (slot_key[slot] != kEmptySlot) {
+    if (slot_key[slot] == k) return slot_voxel[slot];
     slot = (slot + 1) & mask;
   }
-  const auto voxel = static_cast<std::uint32_t>(found_key_.size());
-  slot_key_[slot] = key;
-  slot_voxel_[slot] = voxel;
-  found_key_.push_back(key);
-  found_column_.push_back(column);
-  found_iz_.push_back(static_cast<std::uint32_t>(iz));
-  found_count_.push_back(0);
-  found_sum_.push_back(Eigen::Vector3d::Zero());
-  if (2 * found_key_.size() > slot_key_.size()) growSlots();  // keep probes short
+  const auto voxel = static_cast<std::uint32_t>(list.key.size());
+  slot_key[slot] = k;
+  slot_voxel[slot] = voxel;
+  voxel_slot.push_back(static_cast<std::uint32_t>(slot));
+  list.key.push_back(k);
+  list.column.push_back(c);
+  list.iz.push_back(static_cast<std::uint32_t>(z));
+  list.count.push_back(0);
+  list.sum.push_back(Eigen::Vector3d::Zero());
+  if (2 * voxel_slot.size() > slot_key.size()) grow();  // keep probes short
   return voxel;
 }
 
-void VoxelGrid::growSlots() {
-  slot_key_.assign(2 * slot_key_.size(), kEmptySlot);
-  slot_voxel_.assign(slot_key_.size(), 0);
-  const std::size_t mask = slot_key_.size() - 1;
-  for (std::size_t v = 0; v < found_key_.size(); ++v) {
-    std::size_t slot = slotOf(found_key_[v], mask);
-    while (slot_key_[slot] != kEmptySlot) slot = (slot + 1) & mask;
-    slot_key_[slot] = found_key_[v];
-    slot_voxel_[slot] = static_cast<std::uint32_t>(v);
+void VoxelIndex::grow() {
+  std::vector<std::uint64_t> keys(voxel_slot.size());
+  for (std::size_t v = 0; v < voxel_slot.size(); ++v) keys[v] = slot_key[voxel_slot[v]];
+  slot_key.assign(2 * slot_key.size(), kEmptySlot);
+  slot_voxel.assign(slot_key.size(), 0);
+  const std::size_t mask = slot_key.size() - 1;
+  for (std::size_t v = 0; v < keys.size(); ++v) {
+    std::size_t slot = slotOf(keys[v], mask);
+    while (slot_key[slot] != kEmptySlot) slot = (slot + 1) & mask;
+    slot_key[slot] = keys[v];
+    slot_voxel[slot] = static_cast<std::uint32_t>(v);
+    voxel_slot[v] = static_cast<std::uint32_t>(slot);
+  }
+}
+
+}  // namespace detail
+
+void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz,
+                                     std::size_t row_width, int threads) {
+  const CellMath g{origin_.x(), origin_.y(), origin_.z(), 1.0 / r_xy_, 1.0 / r_z_, nx_, ny_, nz};
+  const std::size_t n = aligned.size();
+  const std::size_t num_chunks = (n + kPointsPerChunk - 1) / kPointsPerChunk;
+  if (chunks_.size() < num_chunks) chunks_.resize(num_chunks);
+  const int workers = static_cast<int>(
+      std::min<std::size_t>(std::max(1, threads), std::max<std::size_t>(1, num_chunks)));
+  if (indexes_.size() < static_cast<std::size_t>(workers)) {
+    indexes_.resize(static_cast<std::size_t>(workers));
+  }
+  // Each worker takes a contiguous run of chunks, each chunk on the worker's own index.
+  parallel::forShares(num_chunks, workers, 1, [&](int worker, std::size_t first, std::size_t last) {
+    detail::VoxelIndex& index = indexes_[static_cast<std::size_t>(worker)];
+    for (std::size_t c = first; c < last; ++c) {
+      detail::VoxelList& list = chunks_[c];
+      list.clear();
+      index.reset(row_width);
+      const std::size_t begin = c * kPointsPerChunk;
+      assignRange(aligned, begin, std::min(n, begin + kPointsPerChunk), g, row_width, index, list,
+                  point_voxel_.data());
+    }
+  });
+  // The chunks' voxels in chunk order, each chunk's in its order of appearance: the order of
+  // first appearance over the whole cloud. Counts and sums are added in that order.
+  found_.clear();
+  merged_index_.reset(0);
+  chunk_begin_.resize(num_chunks + 1);
+  chunk_begin_[0] = 0;
+  for (std::size_t c = 0; c < num_chunks; ++c) {
+    chunk_begin_[c + 1] = chunk_begin_[c] + static_cast<std::uint32_t>(chunks_[c].size());
+  }
+  to_found_.resize(chunk_begin_[num_chunks]);
+  for (std::size_t c = 0; c < num_chunks; ++c) {
+    const detail::VoxelList& list = chunks_[c];
+    for (std::size_t local = 0; local < list.size(); ++local) {
+      const std::uint32_t v =
+          merged_index_.voxelOf(list.key[local], list.column[local], list.iz[local], found_);
+      found_.count[v] += list.count[local];
+      found_.sum[v] += list.sum[local];
+      to_found_[chunk_begin_[c] + local] = v;
+    }
   }
 }
 
 // Voxels sorted by key, i.e. by column (x-major within each row of y) and inside a column by
 // z cell; then the points' voxels are renumbered (each point on its own: split across threads).
 void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns, int threads) {
-  const std::size_t num_voxels = found_key_.size();
+  const detail::VoxelList& table = found_;
+  const std::size_t num_voxels = table.size();
   sorted_.resize(num_voxels);
   if (dense_columns) {
     // Two stable counting sorts, by z cell and then by column: linear in the voxels, where a
     // comparison sort of tens of thousands of fine voxels costs milliseconds.
     const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
     counts_.assign(std::max<std::size_t>(num_columns, nz) + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_iz_[v] + 1];
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[table.iz[v] + 1];
     for (std::size_t b = 1; b <= nz; ++b) counts_[b] += counts_[b - 1];
     by_z_.resize(num_voxels);
     for (std::size_t v = 0; v < num_voxels; ++v) {
-      by_z_[counts_[found_iz_[v]]++] = static_cast<std::uint32_t>(v);
+      by_z_[counts_[table.iz[v]]++] = static_cast<std::uint32_t>(v);
     }
     std::fill(counts_.begin(), counts_.begin() + num_columns + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[found_column_[v] + 1];
+    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[table.column[v] + 1];
     for (std::size_t b = 1; b <= num_columns; ++b) counts_[b] += counts_[b - 1];
-    for (const std::uint32_t v : by_z_) sorted_[counts_[found_column_[v]]++] = v;
+    for (const std::uint32_t v : by_z_) sorted_[counts_[table.column[v]]++] = v;
   } else {
     for (std::size_t v = 0; v < num_voxels; ++v) sorted_[v] = static_cast<std::uint32_t>(v);
     std::sort(sorted_.begin(), sorted_.end(),
-              [this](std::uint32_t a, std::uint32_t b) { return found_key_[a] < found_key_[b]; });
+              [&table](std::uint32_t a, std::uint32_t b) { return table.key[a] < table.key[b]; });
   }
   renumber_.resize(num_voxels);
   column_.resize(num_voxels);
@@ -245,16 +312,20 @@ void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns, int threads) {
   for (std::size_t r = 0; r < num_voxels; ++r) {
     const std::uint32_t found = sorted_[r];
     renumber_[found] = static_cast<std::uint32_t>(r);
-    column_[r] = found_column_[found];
-    iz_[r] = static_cast<std::int32_t>(found_iz_[found]);
-    count_[r] = found_count_[found];
-    centroid_[r] = (found_sum_[found] / static_cast<double>(count_[r])).cast<float>();
+    column_[r] = table.column[found];
+    iz_[r] = static_cast<std::int32_t>(table.iz[found]);
+    count_[r] = table.count[found];
+    centroid_[r] = (table.sum[found] / static_cast<double>(count_[r])).cast<float>();
   }
   parallel::forShares(point_voxel_.size(), parallel::resolve(threads), std::size_t{1} << 15,
                       [this](int /*share*/, std::size_t begin, std::size_t end) {
+                        // A point's number is its chunk's voxel: through the merge's
+                        // numbering to the final one.
                         for (std::size_t i = begin; i < end; ++i) {
-                          const std::int32_t found = point_voxel_[i];
-                          if (found >= 0) {
+                          const std::int32_t local = point_voxel_[i];
+                          if (local >= 0) {
+                            const std::uint32_t found =
+                                to_found_[chunk_begin_[i / kPointsPerChunk] + local];
                             point_voxel_[i] = static_cast<std::int32_t>(renumber_[found]);
                           }
                         }

@@ -9,6 +9,10 @@
 
 #include "parallel.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace hope {
 
 namespace {
@@ -163,20 +167,67 @@ std::size_t alignRange(std::size_t begin, std::size_t end, ReadPoint read, const
   return finite;
 }
 
-// alignRange over every point in shares, one per thread; the shares' boxes and counts are
-// combined afterwards (min, max and sum: the same whatever the split).
-template <class ReadPoint>
-std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r,
-                     const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
-                     Eigen::Vector3f& box_max, int threads) {
+#ifdef __SSE2__
+// alignRange for points of at least 16 bytes with x, y, z packed at the start (every PCL xyz
+// type): one 16-byte load per point and the rotation as three column products, in the same
+// order of operations per coordinate as the scalar loop, so the results are the same bit for
+// bit. The fourth lane (padding) is computed and ignored.
+std::size_t alignRangeSse(const std::uint8_t* data, std::size_t stride, std::size_t begin,
+                          std::size_t end, const Eigen::Matrix3f& r, const Eigen::Vector3f& t,
+                          Eigen::Vector3f* out, Eigen::Vector3f& box_min,
+                          Eigen::Vector3f& box_max) {
+  const __m128 col0 = _mm_setr_ps(r(0, 0), r(1, 0), r(2, 0), 0.f);
+  const __m128 col1 = _mm_setr_ps(r(0, 1), r(1, 1), r(2, 1), 0.f);
+  const __m128 col2 = _mm_setr_ps(r(0, 2), r(1, 2), r(2, 2), 0.f);
+  const __m128 shift = _mm_setr_ps(t.x(), t.y(), t.z(), 0.f);
+  const __m128 zero = _mm_setzero_ps();
+  const __m128 nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  __m128 lo = _mm_set1_ps(std::numeric_limits<float>::max());
+  __m128 hi = _mm_set1_ps(-std::numeric_limits<float>::max());
+  std::size_t finite = 0;
+  for (std::size_t i = begin; i < end; ++i) {
+    const __m128 p = _mm_loadu_ps(reinterpret_cast<const float*>(data + i * stride));
+    const __m128 x = _mm_shuffle_ps(p, p, _MM_SHUFFLE(0, 0, 0, 0));
+    const __m128 y = _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 1, 1, 1));
+    const __m128 z = _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 2, 2));
+    __m128 q = _mm_add_ps(_mm_mul_ps(col0, x), _mm_mul_ps(col1, y));
+    q = _mm_add_ps(_mm_add_ps(q, _mm_mul_ps(col2, z)), shift);
+    // q - q is 0 in a lane exactly when that lane is finite (see alignRange).
+    const bool ok = (_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(q, q), zero)) & 7) == 7;
+    if (ok) {
+      // min(q, lo) keeps lo on ties, as std::min(lo, q) does (the sign of a zero included).
+      lo = _mm_min_ps(q, lo);
+      hi = _mm_max_ps(q, hi);
+      ++finite;
+    } else {
+      q = nan;
+    }
+    float* o = out[i].data();
+    _mm_storel_pi(reinterpret_cast<__m64*>(o), q);  // x, y
+    _mm_store_ss(o + 2, _mm_shuffle_ps(q, q, _MM_SHUFFLE(2, 2, 2, 2)));
+  }
+  alignas(16) float l[4], h[4];
+  _mm_store_ps(l, lo);
+  _mm_store_ps(h, hi);
+  box_min = Eigen::Vector3f(l[0], l[1], l[2]);
+  box_max = Eigen::Vector3f(h[0], h[1], h[2]);
+  return finite;
+}
+#endif
+
+// `range(begin, end, lo, hi)` over every point in shares, one per thread; the shares' boxes and
+// counts are combined afterwards (min, max and sum: the same whatever the split).
+template <class AlignRange>
+std::size_t alignShares(std::size_t count, int threads, Eigen::Vector3f& box_min,
+                        Eigen::Vector3f& box_max, AlignRange range) {
   constexpr int kMaxShares = 64;
   threads = std::min(threads, kMaxShares);
   Eigen::Vector3f lo[kMaxShares], hi[kMaxShares];
   std::size_t finite[kMaxShares] = {};
-  const int shares = parallel::forShares(
-      count, threads, std::size_t{1} << 15, [&](int share, std::size_t begin, std::size_t end) {
-        finite[share] = alignRange(begin, end, read, r, t, out, lo[share], hi[share]);
-      });
+  const int shares = parallel::forShares(count, threads, std::size_t{1} << 15,
+                                         [&](int share, std::size_t begin, std::size_t end) {
+                                           finite[share] = range(begin, end, lo[share], hi[share]);
+                                         });
   box_min = lo[0];
   box_max = hi[0];
   std::size_t total = finite[0];
@@ -186,6 +237,17 @@ std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r
     total += finite[k];
   }
   return total;
+}
+
+template <class ReadPoint>
+std::size_t alignAll(std::size_t count, ReadPoint read, const Eigen::Matrix3f& r,
+                     const Eigen::Vector3f& t, Eigen::Vector3f* out, Eigen::Vector3f& box_min,
+                     Eigen::Vector3f& box_max, int threads) {
+  return alignShares(
+      count, threads, box_min, box_max,
+      [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo, Eigen::Vector3f& hi) {
+        return alignRange(begin, end, read, r, t, out, lo, hi);
+      });
 }
 
 }  // namespace
@@ -210,6 +272,19 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
       std::memcpy(xyz, data + i * stride, sizeof(xyz));
       x = xyz[0], y = xyz[1], z = xyz[2];
     };
+#ifdef __SSE2__
+    if (stride >= 16) {
+      Eigen::Vector3f* out = aligned.data();
+      finite = alignShares(input.count, threads, lo, hi,
+                           [&](std::size_t begin, std::size_t end, Eigen::Vector3f& share_lo,
+                               Eigen::Vector3f& share_hi) {
+                             return alignRangeSse(data, stride, begin, end, r, t, out, share_lo,
+                                                  share_hi);
+                           });
+      if (finite_box) *finite_box = Eigen::AlignedBox3f(lo, hi);
+      return finite;
+    }
+#endif
     finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi, threads);
   } else {
     auto fields = [&input](std::size_t i, float& x, float& y, float& z) {
@@ -240,6 +315,30 @@ std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int thr
         float hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x;
         std::size_t n = 0;
         const float big = std::numeric_limits<float>::max();
+#ifdef __SSE2__
+        if (input.stride >= 16) {
+          // One 16-byte load per point; the padding lane is ignored. min(p, lo) keeps lo on
+          // ties, as std::min(lo, p) does.
+          const __m128 zero = _mm_setzero_ps();
+          __m128 vlo = _mm_set1_ps(big), vhi = _mm_set1_ps(-big);
+          std::size_t count = 0;
+          for (std::size_t i = begin; i < end; ++i) {
+            const __m128 p =
+                _mm_loadu_ps(reinterpret_cast<const float*>(input.data + i * input.stride));
+            if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(p, p), zero)) & 7) != 7) continue;
+            vlo = _mm_min_ps(p, vlo);
+            vhi = _mm_max_ps(p, vhi);
+            ++count;
+          }
+          alignas(16) float l[4], h[4];
+          _mm_store_ps(l, vlo);
+          _mm_store_ps(h, vhi);
+          lo[share] = Eigen::Vector3f(l[0], l[1], l[2]);
+          hi[share] = Eigen::Vector3f(h[0], h[1], h[2]);
+          finite[share] = count;
+          return;
+        }
+#endif
         for (std::size_t i = begin; i < end; ++i) {
           float xyz[3];  // packed at the start of each point (alignmentIsIdentity checked it)
           std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));

@@ -9,6 +9,10 @@ cd "$root"
 bash scripts/build.sh
 # The TUM frame comes from the shared data beside the checkout unless HOPE_SHARED_DATA says.
 export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
+# CPU time the hypervisor took from this VM during the run (the steal column of /proc/stat):
+# on a shared host it makes figures slower and, worse, uneven between threads.
+cpu_times() { awk '/^cpu /{print $2+$3+$4+$5+$6+$7+$8+$9, $9}' /proc/stat; }
+read -r total_before steal_before < <(cpu_times)
 # Google Benchmark's own header carries the date, the command and the machine.
 ./build/devel/lib/hope/hope_benchmark "$@" 2>&1 | tee docs/benchmark_latest.txt
 # The Python binding's cost over the C++ call, same machine, same run.
@@ -34,3 +38,7 @@ if [ -f "$tum" ]; then
   ./build/devel/lib/hope/hope_extract --depth "$tum" --pose "$pose" --repeat 20 --threads 1 |
     grep -E "^time|^cold" | tee -a docs/benchmark_latest.txt
 fi
+read -r total_after steal_after < <(cpu_times)
+awk -v t=$((total_after - total_before)) -v s=$((steal_after - steal_before)) \
+  'BEGIN { printf "CPU time stolen by the hypervisor during this run: %.0f %%\n", (t > 0 ? 100 * s / t : 0) }' |
+  tee -a docs/benchmark_latest.txt

@@ -1,10 +1,12 @@
 // Reading a PointCloud2 in place: every size in the header comes from outside and is checked
 // without overflow, so a hostile message is refused with a reason instead of read out of bounds.
+#include <cstring>
 #include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "hope/plane_colors.h"
 #include "hope_ros/cloud_conversion.h"
 
 namespace hope {
@@ -108,6 +110,47 @@ TEST(CloudConversion, EmptyCloudIsValid) {
   hope::PointsView view;
   EXPECT_EQ(hope_ros::viewOf(msg, view), "");
   EXPECT_EQ(view.count, 0u);
+}
+
+// The labeled cloud: the points in the reference frame (aligned + local origin), the colour of
+// each point's plane id (grey for none) and its label (id + 1, 0 for none), in input order.
+TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
+  const std::vector<Eigen::Vector3f> aligned = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5f}};
+  hope::Result result;
+  result.local_origin = Eigen::Vector3d(1024, 0, 0);
+  result.planes.resize(2);
+  result.planes[0].id = 7;  // ids as the tracker gives them, not the plane's index
+  result.planes[1].id = 2;
+  result.point_labels = {0, -1, 1, 0};
+  hope::PointsView view;
+  view.count = aligned.size();
+  view.width = 4;
+  const sensor_msgs::PointCloud2 msg =
+      hope_ros::labeledCloud(aligned, result, view, std_msgs::Header());
+  ASSERT_EQ(msg.point_step, 20u);
+  ASSERT_EQ(msg.data.size(), 4u * 20u);
+  auto read = [&](std::size_t i, std::size_t offset) {
+    std::uint32_t v;
+    std::memcpy(&v, msg.data.data() + i * 20 + offset, 4);
+    return v;
+  };
+  auto rgbOf = [](int id) {
+    const hope::Rgb c = hope::planeColor(id);
+    return (std::uint32_t(c.r) << 16) | (std::uint32_t(c.g) << 8) | c.b;
+  };
+  const std::uint32_t expected_rgb[4] = {rgbOf(7), (128u << 16) | (128u << 8) | 128u, rgbOf(2),
+                                         rgbOf(7)};
+  const std::uint32_t expected_label[4] = {8, 0, 3, 8};
+  for (std::size_t i = 0; i < 4; ++i) {
+    float xyz[3];
+    std::memcpy(xyz, msg.data.data() + i * 20, 12);
+    EXPECT_EQ(xyz[0], aligned[i].x() + 1024.f) << "point " << i;
+    EXPECT_EQ(xyz[1], aligned[i].y()) << "point " << i;
+    EXPECT_EQ(xyz[2], aligned[i].z()) << "point " << i;
+    EXPECT_EQ(read(i, 12), expected_rgb[i]) << "point " << i;
+    EXPECT_EQ(read(i, 16), expected_label[i]) << "point " << i;
+  }
+  EXPECT_NE(rgbOf(7), rgbOf(2));  // the colours tell the planes apart
 }
 
 }  // namespace test

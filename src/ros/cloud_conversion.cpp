@@ -1,6 +1,7 @@
 #include "hope_ros/cloud_conversion.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 
@@ -171,22 +172,26 @@ sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
   out.row_step = out.point_step * out.width;
   out.is_dense = false;
   out.data.resize(static_cast<std::size_t>(out.point_step) * aligned.size());
+  // The colour and label of each plane index once, not per point: entry 0 is "on no plane"
+  // (grey, label 0), entry k + 1 plane k (its id's colour, label id + 1).
+  std::vector<std::array<std::uint32_t, 2>> rgb_and_label(result.planes.size() + 1);
+  rgb_and_label[0] = {(128u << 16) | (128u << 8) | 128u, 0u};
+  for (std::size_t k = 0; k < result.planes.size(); ++k) {
+    const int id = result.planes[k].id;
+    const hope::Rgb color = hope::planeColor(id);
+    rgb_and_label[k + 1] = {
+        (std::uint32_t(color.r) << 16) | (std::uint32_t(color.g) << 8) | color.b,
+        static_cast<std::uint32_t>(id + 1)};
+  }
   // Aligned points are relative to the local origin (zero unless the sensor is far out).
   const Eigen::Vector3f origin = result.local_origin.cast<float>();
+  const std::size_t labelled = std::min(aligned.size(), result.point_labels.size());
   for (std::size_t i = 0; i < aligned.size(); ++i) {
     std::uint8_t* p = out.data.data() + i * out.point_step;
     const Eigen::Vector3f q = aligned[i] + origin;
     std::memcpy(p, q.data(), 12);
-    const int index = i < result.point_labels.size() ? result.point_labels[i] : -1;
-    const int id = index >= 0 ? result.planes[index].id : -1;
-    hope::Rgb color;
-    color.r = color.g = color.b = 128;  // grey: on no plane
-    if (id >= 0) color = hope::planeColor(id);
-    const std::uint32_t rgb =
-        (std::uint32_t(color.r) << 16) | (std::uint32_t(color.g) << 8) | color.b;
-    std::memcpy(p + 12, &rgb, 4);
-    const std::uint32_t label = id >= 0 ? static_cast<std::uint32_t>(id + 1) : 0u;
-    std::memcpy(p + 16, &label, 4);
+    const int index = i < labelled ? result.point_labels[i] : -1;
+    std::memcpy(p + 12, rgb_and_label[static_cast<std::size_t>(index + 1)].data(), 8);
   }
   return out;
 }

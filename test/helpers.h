@@ -52,6 +52,28 @@ inline std::string describe(const Result& result) {
   return s;
 }
 
+// A copy of a cloud whose x is not at the start of each point (a 4-byte tag first): stages that
+// take a fast path for PCL's layout read it the plain way, so the two can be compared.
+struct ShiftedCopy {
+  struct Point {
+    float tag, x, y, z;
+  };
+  std::vector<Point> points;
+
+  explicit ShiftedCopy(const pcl::PointCloud<pcl::PointXYZ>& cloud) {
+    for (const auto& p : cloud) points.push_back({0.f, p.x, p.y, p.z});
+  }
+  PointsView view() const {
+    PointsView v;
+    v.data = reinterpret_cast<const std::uint8_t*>(points.data());
+    v.count = points.size();
+    v.stride = sizeof(Point);
+    v.x_offset = 4, v.y_offset = 8, v.z_offset = 12;
+    v.width = static_cast<std::uint32_t>(points.size());
+    return v;
+  }
+};
+
 inline std::string sharedData(const std::string& relative) {
   return std::string(HOPE_SHARED_DATA) + "/" + relative;
 }

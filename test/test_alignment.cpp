@@ -102,10 +102,6 @@ TEST(Alignment, VectorizedAndPlainLoopsAgreeBitForBit) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> uniform(-20.f, 20.f);
   pcl::PointCloud<pcl::PointXYZ> cloud;
-  struct Shifted {
-    float tag, x, y, z;
-  };
-  std::vector<Shifted> shifted;
   for (int i = 0; i < 5000; ++i) {
     pcl::PointXYZ p(uniform(rng), uniform(rng), uniform(rng));
     if (i % 97 == 1) p.x = NAN;
@@ -114,14 +110,9 @@ TEST(Alignment, VectorizedAndPlainLoopsAgreeBitForBit) {
     if (i % 79 == 4) p.x = 3e38f;  // finite, overflows once rotated and shifted
     if (i % 71 == 5) p.y = -0.0f;
     cloud.push_back(p);
-    shifted.push_back({0.f, p.x, p.y, p.z});
   }
-  PointsView plain;
-  plain.data = reinterpret_cast<const std::uint8_t*>(shifted.data());
-  plain.count = shifted.size();
-  plain.stride = sizeof(Shifted);
-  plain.x_offset = 4, plain.y_offset = 8, plain.z_offset = 12;
-  plain.width = static_cast<std::uint32_t>(shifted.size());
+  const ShiftedCopy shifted(cloud);
+  const PointsView plain = shifted.view();
   for (const Orientation& o : {Orientation::fromPose(0.3, -1, 2, 0.2, -0.4, 0.1, 0.9),
                                Orientation::fromRollPitchYaw(1.2, -0.3, 2.0)}) {
     for (int threads : {1, 2}) {

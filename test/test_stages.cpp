@@ -74,6 +74,29 @@ TEST(GridFilter, SparseWideCloudsTakeTheHashPathWithTheSameResult) {
   }
 }
 
+// A width x height "image" of a wavy surface with NaN holes, in row order, and the hints an
+// organized cloud brings (row width, the box and count of its finite points).
+GridHints wavyImage(int width, int height, std::vector<Eigen::Vector3f>& image) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  GridHints hints;
+  hints.row_width = static_cast<std::size_t>(width);
+  Eigen::AlignedBox3f box;
+  for (int row = 0; row < height; ++row) {
+    for (int col = 0; col < width; ++col) {
+      if ((row * 7 + col * 3) % 23 == 0) {
+        image.emplace_back(nan, nan, nan);
+        continue;
+      }
+      const Eigen::Vector3f p(0.004f * col, 0.005f * row, 0.03f * std::sin(0.05f * (col + row)));
+      image.push_back(p);
+      box.extend(p);
+      ++hints.finite_points;
+    }
+  }
+  hints.finite_box = box;
+  return hints;
+}
+
 // The grid filter as the paper describes it, written the plain way: the box of the finite
 // points, each point's cell, a sorted map from (column, z cell) to the points in input order,
 // centroids summed in double in input order within each chunk of kPointsPerChunk points and
@@ -165,24 +188,7 @@ TEST(GridFilter, EqualsThePlainReferenceOnShuffledNoisyAndSparseClouds) {
   // The hints an organized cloud brings (row width, the box from the alignment) change
   // nothing: a 200 x 150 "image" of a wavy surface, with NaN holes, read with them.
   std::vector<Eigen::Vector3f> image;
-  Eigen::AlignedBox3f box;
-  std::size_t finite = 0;
-  for (int row = 0; row < 150; ++row) {
-    for (int col = 0; col < 200; ++col) {
-      if ((row * 7 + col * 3) % 23 == 0) {
-        image.emplace_back(nan, nan, nan);
-        continue;
-      }
-      const Eigen::Vector3f p(0.004f * col, 0.005f * row, 0.03f * std::sin(0.05f * (col + row)));
-      image.push_back(p);
-      box.extend(p);
-      ++finite;
-    }
-  }
-  GridHints hints;
-  hints.row_width = 200;
-  hints.finite_box = box;
-  hints.finite_points = finite;
+  const GridHints hints = wavyImage(200, 150, image);
   grid.build(image, 0.009, 0.002, hints);
   expectSameAsReference(grid, image, 0.009, 0.002);
   grid.build(image, 0.05, 0.02, hints);
@@ -206,30 +212,15 @@ TEST(GridFilter, ThreadedPassEqualsThePlainReference) {
     }
   }
   std::vector<Eigen::Vector3f> image;
-  Eigen::AlignedBox3f box;
-  std::size_t finite = 0;
-  for (int row = 0; row < 480; ++row) {
-    for (int col = 0; col < 640; ++col) {
-      if ((row * 7 + col * 3) % 23 == 0) {
-        image.emplace_back(nan, nan, nan);
-        continue;
-      }
-      const Eigen::Vector3f p(0.004f * col, 0.005f * row, 0.03f * std::sin(0.05f * (col + row)));
-      image.push_back(p);
-      box.extend(p);
-      ++finite;
-    }
-  }
+  const GridHints image_hints = wavyImage(640, 480, image);
   VoxelGrid grid;
   for (int threads : {2, 3}) {
     GridHints plain;
     plain.threads = threads;
     grid.build(scattered, 0.05, 0.02, plain);
     expectSameAsReference(grid, scattered, 0.05, 0.02);
-    GridHints organized = plain;
-    organized.row_width = 640;
-    organized.finite_box = box;
-    organized.finite_points = finite;
+    GridHints organized = image_hints;
+    organized.threads = threads;
     grid.build(image, 0.009, 0.002, organized);
     expectSameAsReference(grid, image, 0.009, 0.002);
     grid.build(image, 0.05, 0.02, organized);

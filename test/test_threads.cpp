@@ -153,17 +153,8 @@ TEST(NoCopy, ZUpCloudIsReadInPlaceWithTheSameResultAsTheAlignedCopy) {
             reinterpret_cast<const std::uint8_t*>(&scan.cloud.points[0]));
   EXPECT_EQ(in_place.alignedPoints().size(), scan.cloud.size());
 
-  struct Shifted {
-    float tag, x, y, z;
-  };
-  std::vector<Shifted> shifted;
-  for (const auto& p : scan.cloud) shifted.push_back({0.f, p.x, p.y, p.z});
-  PointsView view;
-  view.data = reinterpret_cast<const std::uint8_t*>(shifted.data());
-  view.count = shifted.size();
-  view.stride = sizeof(Shifted);
-  view.x_offset = 4, view.y_offset = 8, view.z_offset = 12;
-  view.width = static_cast<std::uint32_t>(shifted.size());
+  const ShiftedCopy shifted(scan.cloud);
+  const PointsView view = shifted.view();
   Extractor copying;
   const Result copied = copying.extract(view, Orientation::identity());
   EXPECT_NE(copying.alignedPoints().data, view.data);  // the aligned copy

@@ -272,8 +272,10 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
       std::memcpy(xyz, data + i * stride, sizeof(xyz));
       x = xyz[0], y = xyz[1], z = xyz[2];
     };
+    bool vectorized = false;
 #ifdef __SSE2__
     if (stride >= 16) {
+      vectorized = true;
       Eigen::Vector3f* out = aligned.data();
       finite = alignShares(input.count, threads, lo, hi,
                            [&](std::size_t begin, std::size_t end, Eigen::Vector3f& share_lo,
@@ -281,11 +283,9 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
                              return alignRangeSse(data, stride, begin, end, r, t, out, share_lo,
                                                   share_hi);
                            });
-      if (finite_box) *finite_box = Eigen::AlignedBox3f(lo, hi);
-      return finite;
     }
 #endif
-    finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi, threads);
+    if (!vectorized) finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi, threads);
   } else {
     auto fields = [&input](std::size_t i, float& x, float& y, float& z) {
       x = input.x(i), y = input.y(i), z = input.z(i);
@@ -304,66 +304,55 @@ bool alignmentIsIdentity(const PointsView& input, const Orientation& orientation
 }
 
 std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int threads) {
-  constexpr int kMaxShares = 64;
-  threads = std::min(parallel::resolve(threads), kMaxShares);
-  Eigen::Vector3f lo[kMaxShares], hi[kMaxShares];
-  std::size_t finite[kMaxShares] = {};
-  const int shares = parallel::forShares(
-      input.count, threads, std::size_t{1} << 15,
-      [&](int share, std::size_t begin, std::size_t end) {
-        float lo_x = std::numeric_limits<float>::max(), lo_y = lo_x, lo_z = lo_x;
-        float hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x;
-        std::size_t n = 0;
-        const float big = std::numeric_limits<float>::max();
+  const float big = std::numeric_limits<float>::max();
+  // One share's box and count, by alignShares' rules (the same whatever the split).
+  auto boxRange = [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo,
+                      Eigen::Vector3f& hi) -> std::size_t {
 #ifdef __SSE2__
-        if (input.stride >= 16) {
-          // One 16-byte load per point; the padding lane is ignored. min(p, lo) keeps lo on
-          // ties, as std::min(lo, p) does.
-          const __m128 zero = _mm_setzero_ps();
-          __m128 vlo = _mm_set1_ps(big), vhi = _mm_set1_ps(-big);
-          std::size_t count = 0;
-          for (std::size_t i = begin; i < end; ++i) {
-            const __m128 p =
-                _mm_loadu_ps(reinterpret_cast<const float*>(input.data + i * input.stride));
-            if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(p, p), zero)) & 7) != 7) continue;
-            vlo = _mm_min_ps(p, vlo);
-            vhi = _mm_max_ps(p, vhi);
-            ++count;
-          }
-          alignas(16) float l[4], h[4];
-          _mm_store_ps(l, vlo);
-          _mm_store_ps(h, vhi);
-          lo[share] = Eigen::Vector3f(l[0], l[1], l[2]);
-          hi[share] = Eigen::Vector3f(h[0], h[1], h[2]);
-          finite[share] = count;
-          return;
-        }
+    if (input.stride >= 16) {
+      // One 16-byte load per point; the padding lane is ignored. min(p, lo) keeps lo on
+      // ties, as std::min(lo, p) does.
+      const __m128 zero = _mm_setzero_ps();
+      __m128 vlo = _mm_set1_ps(big), vhi = _mm_set1_ps(-big);
+      std::size_t count = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        const __m128 p =
+            _mm_loadu_ps(reinterpret_cast<const float*>(input.data + i * input.stride));
+        if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(p, p), zero)) & 7) != 7) continue;
+        vlo = _mm_min_ps(p, vlo);
+        vhi = _mm_max_ps(p, vhi);
+        ++count;
+      }
+      alignas(16) float l[4], h[4];
+      _mm_store_ps(l, vlo);
+      _mm_store_ps(h, vhi);
+      lo = Eigen::Vector3f(l[0], l[1], l[2]);
+      hi = Eigen::Vector3f(h[0], h[1], h[2]);
+      return count;
+    }
 #endif
-        for (std::size_t i = begin; i < end; ++i) {
-          float xyz[3];  // packed at the start of each point (alignmentIsIdentity checked it)
-          std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));
-          const float x = xyz[0], y = xyz[1], z = xyz[2];
-          // Not finite (NaN or ±inf, see alignRange): the point changes neither bound. Selects
-          // rather than a branch, as scans mix finite and missing returns unpredictably.
-          const bool finite = (x - x) + (y - y) + (z - z) == 0.0f;
-          lo_x = std::min(lo_x, finite ? x : big), lo_y = std::min(lo_y, finite ? y : big);
-          lo_z = std::min(lo_z, finite ? z : big);
-          hi_x = std::max(hi_x, finite ? x : -big), hi_y = std::max(hi_y, finite ? y : -big);
-          hi_z = std::max(hi_z, finite ? z : -big);
-          n += finite ? 1 : 0;
-        }
-        lo[share] = Eigen::Vector3f(lo_x, lo_y, lo_z);
-        hi[share] = Eigen::Vector3f(hi_x, hi_y, hi_z);
-        finite[share] = n;
-      });
-  Eigen::Vector3f box_min = lo[0], box_max = hi[0];
-  std::size_t total = finite[0];
-  for (int k = 1; k < shares; ++k) {
-    box_min = box_min.cwiseMin(lo[k]);
-    box_max = box_max.cwiseMax(hi[k]);
-    total += finite[k];
-  }
-  box = Eigen::AlignedBox3f(box_min, box_max);
+    float lo_x = big, lo_y = big, lo_z = big, hi_x = -big, hi_y = -big, hi_z = -big;
+    std::size_t count = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      float xyz[3];  // packed at the start of each point (alignmentIsIdentity checked it)
+      std::memcpy(xyz, input.data + i * input.stride, sizeof(xyz));
+      const float x = xyz[0], y = xyz[1], z = xyz[2];
+      // Not finite (NaN or ±inf, see alignRange): the point changes neither bound. Selects
+      // rather than a branch, as scans mix finite and missing returns unpredictably.
+      const bool finite = (x - x) + (y - y) + (z - z) == 0.0f;
+      lo_x = std::min(lo_x, finite ? x : big), lo_y = std::min(lo_y, finite ? y : big);
+      lo_z = std::min(lo_z, finite ? z : big);
+      hi_x = std::max(hi_x, finite ? x : -big), hi_y = std::max(hi_y, finite ? y : -big);
+      hi_z = std::max(hi_z, finite ? z : -big);
+      count += finite ? 1 : 0;
+    }
+    lo = Eigen::Vector3f(lo_x, lo_y, lo_z);
+    hi = Eigen::Vector3f(hi_x, hi_y, hi_z);
+    return count;
+  };
+  Eigen::Vector3f lo, hi;
+  const std::size_t total = alignShares(input.count, parallel::resolve(threads), lo, hi, boxRange);
+  box = Eigen::AlignedBox3f(lo, hi);
   return total;
 }
 

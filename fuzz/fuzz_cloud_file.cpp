@@ -44,7 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     hope::Extractor extractor;
-    extractor.extract(input.cloud, hope::Orientation::identity());
+    extractor.extract(input.view(), hope::Orientation::identity());
   } catch (const std::invalid_argument&) {
   }
   return 0;

@@ -111,42 +111,60 @@ TEST(Alignment, VectorizedAndPlainLoopsAgreeBitForBit) {
     if (i % 71 == 5) p.y = -0.0f;
     cloud.push_back(p);
   }
+  // The last point sets the box's maximum: with 12-byte points it is the one the vectorized
+  // loop must leave to the scalar one (a 16-byte load would pass the end; ASan would see it).
+  cloud.push_back(pcl::PointXYZ(25.f, 26.f, 27.f));
   const ShiftedCopy shifted(cloud);
   const PointsView plain = shifted.view();
-  for (const Orientation& o : {Orientation::fromPose(0.3, -1, 2, 0.2, -0.4, 0.1, 0.9),
-                               Orientation::fromRollPitchYaw(1.2, -0.3, 2.0)}) {
-    for (int threads : {1, 2}) {
-      std::vector<Eigen::Vector3f> fast, slow;
-      Eigen::AlignedBox3f fast_box, slow_box;
-      const std::size_t fast_finite = alignToGravity(PointsView::of(cloud), o, fast,
-                                                     Eigen::Vector3d::Zero(), &fast_box, threads);
-      const std::size_t slow_finite =
-          alignToGravity(plain, o, slow, Eigen::Vector3d::Zero(), &slow_box, threads);
-      EXPECT_EQ(fast_finite, slow_finite);
-      EXPECT_LT(fast_finite, cloud.size());  // the bad points were caught
-      EXPECT_GT(fast_finite, cloud.size() * 9 / 10);
-      EXPECT_EQ(fast_box.min(), slow_box.min());
-      EXPECT_EQ(fast_box.max(), slow_box.max());
-      ASSERT_EQ(fast.size(), slow.size());
-      for (std::size_t i = 0; i < fast.size(); ++i) {
-        if (slow[i].allFinite()) {
-          EXPECT_EQ(fast[i], slow[i]) << "point " << i;
-        } else {
-          EXPECT_TRUE(fast[i].array().isNaN().all()) << "point " << i;
-          EXPECT_TRUE(slow[i].array().isNaN().all()) << "point " << i;
+  // Two layouts the vectorized loop reads: PCL's 16-byte points and packed 12-byte ones in a
+  // buffer that ends with the last point.
+  std::vector<Eigen::Vector3f> packed;
+  for (const pcl::PointXYZ& p : cloud) packed.emplace_back(p.x, p.y, p.z);
+  PointsView packed_view;
+  packed_view.data = reinterpret_cast<const std::uint8_t*>(packed.data());
+  packed_view.count = packed.size();
+  packed_view.stride = sizeof(Eigen::Vector3f);
+  packed_view.width = static_cast<std::uint32_t>(packed.size());
+  for (const PointsView& view : {PointsView::of(cloud), packed_view}) {
+    SCOPED_TRACE("stride " + std::to_string(view.stride));
+    for (const Orientation& o : {Orientation::fromPose(0.3, -1, 2, 0.2, -0.4, 0.1, 0.9),
+                                 Orientation::fromRollPitchYaw(1.2, -0.3, 2.0)}) {
+      for (int threads : {1, 2}) {
+        std::vector<Eigen::Vector3f> fast, slow;
+        Eigen::AlignedBox3f fast_box, slow_box;
+        const std::size_t fast_finite =
+            alignToGravity(view, o, fast, Eigen::Vector3d::Zero(), &fast_box, threads);
+        const std::size_t slow_finite =
+            alignToGravity(plain, o, slow, Eigen::Vector3d::Zero(), &slow_box, threads);
+        EXPECT_EQ(fast_finite, slow_finite);
+        EXPECT_LT(fast_finite, cloud.size());  // the bad points were caught
+        EXPECT_GT(fast_finite, cloud.size() * 9 / 10);
+        EXPECT_EQ(fast_box.min(), slow_box.min());
+        EXPECT_EQ(fast_box.max(), slow_box.max());
+        ASSERT_EQ(fast.size(), slow.size());
+        for (std::size_t i = 0; i < fast.size(); ++i) {
+          if (slow[i].allFinite()) {
+            EXPECT_EQ(fast[i], slow[i]) << "point " << i;
+          } else {
+            EXPECT_TRUE(fast[i].array().isNaN().all()) << "point " << i;
+            EXPECT_TRUE(slow[i].array().isNaN().all()) << "point " << i;
+          }
         }
       }
     }
+    // No rotation: the box-only pass against the box of the copy; the last point holds the
+    // maximum y and z (x: a 3e38 point, finite without a rotation).
+    Eigen::AlignedBox3f in_place_box, copy_box;
+    std::vector<Eigen::Vector3f> copy;
+    const std::size_t in_place = finiteBox(view, in_place_box, 2);
+    const std::size_t copied =
+        alignToGravity(plain, Orientation::identity(), copy, Eigen::Vector3d::Zero(), &copy_box, 1);
+    EXPECT_EQ(in_place, copied);
+    EXPECT_EQ(in_place_box.min(), copy_box.min());
+    EXPECT_EQ(in_place_box.max(), copy_box.max());
+    EXPECT_EQ(in_place_box.max().y(), 26.f);
+    EXPECT_EQ(in_place_box.max().z(), 27.f);
   }
-  // No rotation: the box-only pass against the box of the copy.
-  Eigen::AlignedBox3f in_place_box, copy_box;
-  std::vector<Eigen::Vector3f> copy;
-  const std::size_t in_place = finiteBox(PointsView::of(cloud), in_place_box, 2);
-  const std::size_t copied =
-      alignToGravity(plain, Orientation::identity(), copy, Eigen::Vector3d::Zero(), &copy_box, 1);
-  EXPECT_EQ(in_place, copied);
-  EXPECT_EQ(in_place_box.min(), copy_box.min());
-  EXPECT_EQ(in_place_box.max(), copy_box.max());
 }
 
 }  // namespace test

@@ -60,24 +60,25 @@ TEST_F(Cli, CloudFilesReadAsPclWritesThemInEveryEncoding) {
        {"_ascii.pcd", "_binary.pcd", "_compressed.pcd", "_ascii.ply", "_binary.ply"}) {
     const tools::InputCloud in = tools::loadCloud(base + name);
     const bool ply = std::string(name).find("ply") != std::string::npos;
-    ASSERT_EQ(in.cloud.size(), cloud.size()) << name;
+    ASSERT_EQ(in.size(), cloud.size()) << name;
     if (!ply) {  // PCL's PLY writer drops the organized shape; PCD keeps it
-      EXPECT_EQ(in.cloud.width, 8u) << name;
-      EXPECT_EQ(in.cloud.height, 5u) << name;
+      EXPECT_EQ(in.width, 8u) << name;
+      EXPECT_EQ(in.height, 5u) << name;
     }
-    EXPECT_TRUE(in.has_color) << name;
+    ASSERT_TRUE(in.hasColor()) << name;
     for (std::size_t i = 0; i < cloud.size(); ++i) {
-      const pcl::PointXYZRGB &a = in.cloud[i], &b = cloud[i];
-      EXPECT_FLOAT_EQ(a.x, b.x) << name << " point " << i;
-      EXPECT_FLOAT_EQ(a.y, b.y) << name << " point " << i;
+      const Eigen::Vector3f& a = in.points[i];
+      const pcl::PointXYZRGB& b = cloud[i];
+      EXPECT_FLOAT_EQ(a.x(), b.x) << name << " point " << i;
+      EXPECT_FLOAT_EQ(a.y(), b.y) << name << " point " << i;
       if (std::isnan(b.z)) {
-        EXPECT_TRUE(std::isnan(a.z)) << name;
+        EXPECT_TRUE(std::isnan(a.z())) << name;
       } else {
-        EXPECT_FLOAT_EQ(a.z, b.z) << name << " point " << i;
+        EXPECT_FLOAT_EQ(a.z(), b.z) << name << " point " << i;
       }
-      EXPECT_EQ(int(a.r), int(b.r)) << name << " point " << i;
-      EXPECT_EQ(int(a.g), int(b.g)) << name << " point " << i;
-      EXPECT_EQ(int(a.b), int(b.b)) << name << " point " << i;
+      EXPECT_EQ(int(in.rgb[i] >> 16), int(b.r)) << name << " point " << i;
+      EXPECT_EQ(int((in.rgb[i] >> 8) & 0xFF), int(b.g)) << name << " point " << i;
+      EXPECT_EQ(int(in.rgb[i] & 0xFF), int(b.b)) << name << " point " << i;
     }
   }
   // A big-endian binary PLY with a face element after the vertices (ignored).
@@ -99,11 +100,11 @@ TEST_F(Cli, CloudFilesReadAsPclWritesThemInEveryEncoding) {
     }
   }
   const tools::InputCloud be = tools::loadCloud(base + "_be.ply");
-  ASSERT_EQ(be.cloud.size(), 2u);
-  EXPECT_FALSE(be.has_color);
-  EXPECT_FLOAT_EQ(be.cloud[1].x, 2.5f);
-  EXPECT_FLOAT_EQ(be.cloud[1].y, -2.25f);
-  EXPECT_FLOAT_EQ(be.cloud[1].z, 0.125f);
+  ASSERT_EQ(be.size(), 2u);
+  EXPECT_FALSE(be.hasColor());
+  EXPECT_FLOAT_EQ(be.points[1].x(), 2.5f);
+  EXPECT_FLOAT_EQ(be.points[1].y(), -2.25f);
+  EXPECT_FLOAT_EQ(be.points[1].z(), 0.125f);
 }
 
 TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {

@@ -143,6 +143,28 @@ TEST(Extractor, LabelsCoverEveryInputPointInOrder) {
   EXPECT_EQ(result.planes[0].num_points, n - 2);
 }
 
+TEST(Extractor, PointLabelsLeftOutOnRequestWithTheSamePlanes) {
+  LabeledCloud cloud;
+  addSheet(cloud, 0, 0, 1, 1, 0.5, kSpacing, 0);
+  addSheet(cloud, 0.2, 0.2, 0.6, 0.6, 0.9, kSpacing, 1);
+  Extractor extractor;
+  ExtractOutputs without_labels;
+  without_labels.point_labels = false;
+  const Result bare = extractor.extract(cloud.cloud, Orientation::identity(), without_labels);
+  const Result full = extractor.extract(cloud.cloud, Orientation::identity());
+  EXPECT_TRUE(bare.point_labels.empty());
+  EXPECT_EQ(full.point_labels.size(), cloud.cloud.size());
+  ASSERT_EQ(bare.planes.size(), 2u) << describe(bare);
+  ASSERT_EQ(full.planes.size(), 2u) << describe(full);
+  const auto heights = std::minmax(bare.planes[0].height, bare.planes[1].height);
+  EXPECT_NEAR(heights.first, 0.5, 0.002);
+  EXPECT_NEAR(heights.second, 0.9, 0.002);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(bare.planes[k].height, full.planes[k].height);
+    EXPECT_EQ(bare.planes[k].num_points, full.planes[k].num_points);
+    EXPECT_EQ(bare.planes[k].hull.size(), full.planes[k].hull.size());
+  }
+}
 TEST(Extractor, PlaneDescriptionMatchesTheSheet) {
   LabeledCloud cloud;
   addSheet(cloud, -0.3, 0.2, 0.9, 1.0, 0.42, kSpacing, 0);

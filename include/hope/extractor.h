@@ -33,7 +33,7 @@ struct StageTimings {
 struct Result {
   std::vector<HorizontalPlane> planes;
   // One entry per input point, in input order: the index into `planes`, or -1 for points
-  // on no plane (including non-finite ones).
+  // on no plane (including non-finite ones). Empty when ExtractOutputs::point_labels is false.
   std::vector<std::int32_t> point_labels;
   // The transform that was applied: points in `planes` are in the reference frame.
   Eigen::Isometry3d sensor_to_reference = Eigen::Isometry3d::Identity();
@@ -61,6 +61,14 @@ struct Result {
   std::vector<std::uint32_t> pointsOf(std::size_t index) const;
 };
 
+// What extract() computes besides the planes. Per-point labels cost a pass over the points and
+// 4 bytes a point (24 MB for a 6 M-point cloud); a caller that shows no per-point result (the
+// nodelet when nobody listens to the labeled cloud, hope_extract without --labels or
+// --overlay) can leave them out.
+struct ExtractOutputs {
+  bool point_labels = true;  // Result::point_labels; left empty when false
+};
+
 class Extractor {
  public:
   // Throws std::invalid_argument when a parameter is out of range (see validate()).
@@ -72,11 +80,13 @@ class Extractor {
   // or one with no horizontal surface, gives an empty result. Throws std::invalid_argument
   // only for input that cannot be a scene in metres (see VoxelGrid::build). Reuses internal
   // buffers across calls, so one Extractor must not run two clouds concurrently.
-  Result extract(const PointsView& cloud, const Orientation& orientation);
+  Result extract(const PointsView& cloud, const Orientation& orientation,
+                 const ExtractOutputs& outputs = ExtractOutputs());
 
   template <class PointT>
-  Result extract(const pcl::PointCloud<PointT>& cloud, const Orientation& orientation) {
-    return extract(PointsView::of(cloud), orientation);
+  Result extract(const pcl::PointCloud<PointT>& cloud, const Orientation& orientation,
+                 const ExtractOutputs& outputs = ExtractOutputs()) {
+    return extract(PointsView::of(cloud), orientation, outputs);
   }
 
   // Intermediate products of the last call, for visualization and tests. Aligned points are

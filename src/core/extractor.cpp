@@ -45,7 +45,8 @@ std::vector<std::uint32_t> Result::pointsOf(std::size_t index) const {
 
 Extractor::Extractor(const Params& params) : params_(params) { validate(params_); }
 
-Result Extractor::extract(const PointsView& cloud, const Orientation& orientation) {
+Result Extractor::extract(const PointsView& cloud, const Orientation& orientation,
+                          const ExtractOutputs& outputs) {
   Result result;
   result.sensor_to_reference = orientation.sensorToReference();
   result.input_points = cloud.count;
@@ -274,18 +275,20 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   for (std::int32_t& owner : voxel_plane_) {
     if (owner >= 0) owner = plane_of_surface[static_cast<std::size_t>(owner)];
   }
-  result.point_labels.assign(cloud.count, -1);
-  // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
-  // small enough to stay in cache), rather than scattered writes plane by plane.
-  const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
-  parallel::forShares(point_voxel.size(), threads, std::size_t{1} << 15,
-                      [&](int /*share*/, std::size_t begin, std::size_t end) {
-                        for (std::size_t i = begin; i < end; ++i) {
-                          if (point_voxel[i] >= 0) {
-                            result.point_labels[i] = voxel_plane_[point_voxel[i]];
+  if (outputs.point_labels) {
+    // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
+    // small enough to stay in cache), rather than scattered writes plane by plane.
+    const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
+    result.point_labels.assign(cloud.count, -1);
+    parallel::forShares(point_voxel.size(), threads, std::size_t{1} << 15,
+                        [&](int /*share*/, std::size_t begin, std::size_t end) {
+                          for (std::size_t i = begin; i < end; ++i) {
+                            if (point_voxel[i] >= 0) {
+                              result.point_labels[i] = voxel_plane_[point_voxel[i]];
+                            }
                           }
-                        }
-                      });
+                        });
+  }
   result.timings.description_ms += stage.lap();
   result.timings.total_ms = total.lap();
   return result;

@@ -168,10 +168,18 @@ std::size_t alignRange(std::size_t begin, std::size_t end, ReadPoint read, const
 }
 
 #ifdef __SSE2__
-// alignRange for points of at least 16 bytes with x, y, z packed at the start (every PCL xyz
-// type): one 16-byte load per point and the rotation as three column products, in the same
-// order of operations per coordinate as the scalar loop, so the results are the same bit for
-// bit. The fourth lane (padding) is computed and ignored.
+// Points [0, lastLoadable) can be read with a 16-byte load without passing the end of the
+// cloud's count · stride bytes: all of them when a point takes 16 bytes or more, all but the
+// last with 12 (x, y, z packed).
+std::size_t lastLoadable(const PointsView& input) {
+  const std::size_t bytes = input.count * input.stride;
+  return bytes < 16 ? 0 : std::min(input.count, (bytes - 16) / input.stride + 1);
+}
+
+// alignRange for points of at least 12 bytes with x, y, z packed at the start (every PCL xyz
+// type, a packed float array): one 16-byte load per point and the rotation as three column
+// products, in the same order of operations per coordinate as the scalar loop, so the results are
+// the same bit for bit. The fourth lane (padding) is computed and ignored.
 std::size_t alignRangeSse(const std::uint8_t* data, std::size_t stride, std::size_t begin,
                           std::size_t end, const Eigen::Matrix3f& r, const Eigen::Vector3f& t,
                           Eigen::Vector3f* out, Eigen::Vector3f& box_min,
@@ -274,16 +282,25 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
     };
     bool vectorized = false;
 #ifdef __SSE2__
-    if (stride >= 16) {
-      vectorized = true;
-      Eigen::Vector3f* out = aligned.data();
-      finite = alignShares(input.count, threads, lo, hi,
-                           [&](std::size_t begin, std::size_t end, Eigen::Vector3f& share_lo,
-                               Eigen::Vector3f& share_hi) {
-                             return alignRangeSse(data, stride, begin, end, r, t, out, share_lo,
-                                                  share_hi);
-                           });
-    }
+    // 16-byte loads: with 12-byte points the load of the cloud's last point would pass its
+    // end, so that one point goes through the scalar loop.
+    vectorized = true;
+    Eigen::Vector3f* out = aligned.data();
+    const std::size_t loadable = lastLoadable(input);
+    finite = alignShares(input.count, threads, lo, hi,
+                         [&](std::size_t begin, std::size_t end, Eigen::Vector3f& share_lo,
+                             Eigen::Vector3f& share_hi) {
+                           const std::size_t split = std::clamp(loadable, begin, end);
+                           std::size_t n = alignRangeSse(data, stride, begin, split, r, t, out,
+                                                         share_lo, share_hi);
+                           if (split < end) {
+                             Eigen::Vector3f tail_lo, tail_hi;
+                             n += alignRange(split, end, packed, r, t, out, tail_lo, tail_hi);
+                             share_lo = share_lo.cwiseMin(tail_lo);
+                             share_hi = share_hi.cwiseMax(tail_hi);
+                           }
+                           return n;
+                         });
 #endif
     if (!vectorized) finite = alignAll(input.count, packed, r, t, aligned.data(), lo, hi, threads);
   } else {
@@ -305,32 +322,9 @@ bool alignmentIsIdentity(const PointsView& input, const Orientation& orientation
 
 std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int threads) {
   const float big = std::numeric_limits<float>::max();
-  // One share's box and count, by alignShares' rules (the same whatever the split).
-  auto boxRange = [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo,
-                      Eigen::Vector3f& hi) -> std::size_t {
-#ifdef __SSE2__
-    if (input.stride >= 16) {
-      // One 16-byte load per point; the padding lane is ignored. min(p, lo) keeps lo on
-      // ties, as std::min(lo, p) does.
-      const __m128 zero = _mm_setzero_ps();
-      __m128 vlo = _mm_set1_ps(big), vhi = _mm_set1_ps(-big);
-      std::size_t count = 0;
-      for (std::size_t i = begin; i < end; ++i) {
-        const __m128 p =
-            _mm_loadu_ps(reinterpret_cast<const float*>(input.data + i * input.stride));
-        if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(p, p), zero)) & 7) != 7) continue;
-        vlo = _mm_min_ps(p, vlo);
-        vhi = _mm_max_ps(p, vhi);
-        ++count;
-      }
-      alignas(16) float l[4], h[4];
-      _mm_store_ps(l, vlo);
-      _mm_store_ps(h, vhi);
-      lo = Eigen::Vector3f(l[0], l[1], l[2]);
-      hi = Eigen::Vector3f(h[0], h[1], h[2]);
-      return count;
-    }
-#endif
+  // The box and count of points [begin, end), one at a time.
+  auto scalarBox = [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo,
+                       Eigen::Vector3f& hi) -> std::size_t {
     float lo_x = big, lo_y = big, lo_z = big, hi_x = -big, hi_y = -big, hi_z = -big;
     std::size_t count = 0;
     for (std::size_t i = begin; i < end; ++i) {
@@ -349,6 +343,40 @@ std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int thr
     lo = Eigen::Vector3f(lo_x, lo_y, lo_z);
     hi = Eigen::Vector3f(hi_x, hi_y, hi_z);
     return count;
+  };
+  // One share's box and count, by alignShares' rules (the same whatever the split).
+  auto boxRange = [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo,
+                      Eigen::Vector3f& hi) -> std::size_t {
+#ifdef __SSE2__
+    // One 16-byte load per point, the lane after z ignored; a 12-byte cloud's last point is
+    // left to the scalar loop (its load would pass the end). min(p, lo) keeps lo on ties, as
+    // std::min(lo, p) does.
+    const std::size_t split = std::clamp(lastLoadable(input), begin, end);
+    const __m128 zero = _mm_setzero_ps();
+    __m128 vlo = _mm_set1_ps(big), vhi = _mm_set1_ps(-big);
+    std::size_t count = 0;
+    for (std::size_t i = begin; i < split; ++i) {
+      const __m128 p = _mm_loadu_ps(reinterpret_cast<const float*>(input.data + i * input.stride));
+      if ((_mm_movemask_ps(_mm_cmpeq_ps(_mm_sub_ps(p, p), zero)) & 7) != 7) continue;
+      vlo = _mm_min_ps(p, vlo);
+      vhi = _mm_max_ps(p, vhi);
+      ++count;
+    }
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, vlo);
+    _mm_store_ps(h, vhi);
+    lo = Eigen::Vector3f(l[0], l[1], l[2]);
+    hi = Eigen::Vector3f(h[0], h[1], h[2]);
+    if (split < end) {
+      Eigen::Vector3f tail_lo, tail_hi;
+      count += scalarBox(split, end, tail_lo, tail_hi);
+      lo = lo.cwiseMin(tail_lo);
+      hi = hi.cwiseMax(tail_hi);
+    }
+    return count;
+#else
+    return scalarBox(begin, end, lo, hi);
+#endif
   };
   Eigen::Vector3f lo, hi;
   const std::size_t total = alignShares(input.count, parallel::resolve(threads), lo, hi, boxRange);

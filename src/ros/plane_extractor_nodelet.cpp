@@ -448,9 +448,13 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
                           cloud->header.frame_id.c_str(), problem.c_str());
     return;
   }
+  // Per-point labels feed only the labeled cloud: left out while nobody listens to it.
+  const bool publish_cloud = cloud_pub_.getNumSubscribers() > 0;
+  hope::ExtractOutputs outputs;
+  outputs.point_labels = publish_cloud;
   hope::Result result;
   try {
-    result = extractor_->extract(view, orientation);
+    result = extractor_->extract(view, orientation, outputs);
   } catch (const std::exception& e) {
     reject(e.what());
     NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
@@ -465,7 +469,7 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   if (planes_pub_.getNumSubscribers() > 0 || !lazy_) {
     planes_pub_.publish(boost::make_shared<hope::PlaneArray>(toMessage(result, header)));
   }
-  if (cloud_pub_.getNumSubscribers() > 0) {
+  if (publish_cloud) {
     cloud_pub_.publish(boost::make_shared<sensor_msgs::PointCloud2>(
         labeledCloud(extractor_->alignedPoints(), result, view, header)));
   }

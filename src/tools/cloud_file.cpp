@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -11,8 +12,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <vector>
-
-#include <pcl/io/lzf.h>
 
 namespace hope {
 namespace tools {
@@ -414,34 +413,73 @@ Roles rolesOf(const std::string& path, const CloudFileLayout& layout) {
   return r;
 }
 
-void setColor(pcl::PointXYZRGB& p, std::uint32_t rgb) {
-  p.r = static_cast<std::uint8_t>(rgb >> 16);
-  p.g = static_cast<std::uint8_t>(rgb >> 8);
-  p.b = static_cast<std::uint8_t>(rgb);
+std::uint32_t rgbOf(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  return (std::uint32_t{r} << 16) | (std::uint32_t{g} << 8) | b;
 }
 
-std::vector<std::uint8_t> readBytes(const std::string& path, std::ifstream& in,
-                                    std::uint64_t count) {
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(count));
+// Decompresses one LZF block (PCD's binary_compressed) into out[0, out_size); returns the bytes
+// written, or 0 when the block is malformed or does not fit. The format is a sequence of
+// tokens: a control byte below 32 starts a run of (control + 1) literal bytes; any other is a
+// back reference of length (control >> 5) + 2 (with one more length byte when that field is
+// 7), to a distance of ((control & 31) << 8 | next byte) + 1 before the output's end. Every
+// read and write is checked, so a hostile block cannot leave either buffer.
+std::size_t lzfDecompress(const std::uint8_t* in, std::size_t in_size, std::uint8_t* out,
+                          std::size_t out_size) {
+  std::size_t i = 0, o = 0;
+  while (i < in_size) {
+    const std::size_t control = in[i++];
+    if (control < 32) {
+      const std::size_t run = control + 1;
+      if (run > in_size - i || run > out_size - o) return 0;
+      std::memcpy(out + o, in + i, run);
+      i += run;
+      o += run;
+      continue;
+    }
+    std::size_t length = control >> 5;
+    if (length == 7) {
+      if (i >= in_size) return 0;
+      length += in[i++];
+    }
+    length += 2;
+    if (i >= in_size) return 0;
+    const std::size_t distance = ((control & 31) << 8 | in[i++]) + 1;
+    if (distance > o || length > out_size - o) return 0;
+    // Byte by byte: a reference may overlap the bytes it produces (a repeated pattern).
+    for (std::size_t k = 0; k < length; ++k, ++o) out[o] = out[o - distance];
+  }
+  return o;
+}
+
+void readBytes(const std::string& path, std::ifstream& in, std::uint64_t count,
+               std::vector<std::uint8_t>& bytes) {
+  bytes.resize(static_cast<std::size_t>(count));
   in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(count));
   if (static_cast<std::uint64_t>(in.gcount()) != count) fail(path, "is truncated");
-  return bytes;
 }
 
-// Points stored point after point (binary PCD and PLY): point i starts at i · point_bytes.
-void fromPointMajor(const std::vector<std::uint8_t>& data, const CloudFileLayout& layout,
-                    const Roles& r, bool swap, pcl::PointCloud<pcl::PointXYZRGB>& cloud) {
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const std::uint8_t* point = data.data() + i * layout.point_bytes;
-    pcl::PointXYZRGB& p = cloud[i];
-    p.x = static_cast<float>(binaryValue(point + r.x->offset, *r.x, swap));
-    p.y = static_cast<float>(binaryValue(point + r.y->offset, *r.y, swap));
-    p.z = static_cast<float>(binaryValue(point + r.z->offset, *r.z, swap));
-    if (r.packed) setColor(p, packedColor(point + r.packed->offset, *r.packed));
+// Points stored point after point (binary PCD and PLY): point i of the block at
+// i · point_bytes. The common layout (native float32 x, y, z side by side) is copied whole.
+void fromPointMajor(const std::uint8_t* data, std::size_t first, std::size_t count,
+                    const CloudFileLayout& layout, const Roles& r, bool swap, InputCloud& cloud) {
+  const bool packed_xyz = !swap && r.x->type == 'F' && r.x->size == 4 && r.y->size == 4 &&
+                          r.z->size == 4 && r.y->type == 'F' && r.z->type == 'F' &&
+                          r.y->offset == r.x->offset + 4 && r.z->offset == r.x->offset + 8;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint8_t* point = data + k * layout.point_bytes;
+    Eigen::Vector3f& p = cloud.points[first + k];
+    if (packed_xyz) {
+      std::memcpy(p.data(), point + r.x->offset, 3 * sizeof(float));
+    } else {
+      p = Eigen::Vector3f(static_cast<float>(binaryValue(point + r.x->offset, *r.x, swap)),
+                          static_cast<float>(binaryValue(point + r.y->offset, *r.y, swap)),
+                          static_cast<float>(binaryValue(point + r.z->offset, *r.z, swap)));
+    }
+    if (r.packed)
+      cloud.rgb[first + k] = packedColor(point + r.packed->offset, *r.packed) & 0xFFFFFF;
     if (r.red) {
-      p.r = point[r.red->offset];
-      p.g = point[r.green->offset];
-      p.b = point[r.blue->offset];
+      cloud.rgb[first + k] =
+          rgbOf(point[r.red->offset], point[r.green->offset], point[r.blue->offset]);
     }
   }
 }
@@ -499,16 +537,29 @@ CloudFileLayout checkCloudFile(const std::string& path, std::uint64_t max_points
   return layout;
 }
 
-pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
-                                                const CloudFileLayout& layout, bool& has_color) {
+PointsView InputCloud::view() const {
+  PointsView v;
+  v.data = points.empty() ? nullptr : reinterpret_cast<const std::uint8_t*>(points.data());
+  v.count = points.size();
+  v.stride = sizeof(Eigen::Vector3f);
+  v.width = width;
+  v.height = height;
+  if (std::uint64_t(width) * height != points.size()) {  // not an image: one row
+    v.width = static_cast<std::uint32_t>(points.size());
+    v.height = 1;
+  }
+  return v;
+}
+
+InputCloud readCloudFile(const std::string& path, const CloudFileLayout& layout) {
+  static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "points must be packed");
   const Roles r = rolesOf(path, layout);
-  has_color = r.packed || r.red;
-  pcl::PointCloud<pcl::PointXYZRGB> cloud;
-  cloud.resize(static_cast<std::size_t>(layout.points()));
+  const bool has_color = r.packed || r.red;
+  InputCloud cloud;
+  cloud.points.resize(static_cast<std::size_t>(layout.points()));
+  if (has_color) cloud.rgb.assign(cloud.points.size(), 0);
   cloud.width = layout.width;
   cloud.height = layout.height;
-  cloud.is_dense = false;
-  for (pcl::PointXYZRGB& p : cloud) p.r = p.g = p.b = 160;  // grey without colours
   std::ifstream in(path, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(layout.data_offset));
   if (!in) fail(path, "cannot be read past its header");
@@ -530,7 +581,8 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
       }
     }
     for (std::size_t i = 0; i < cloud.size(); ++i) {
-      pcl::PointXYZRGB& p = cloud[i];
+      Eigen::Vector3f& p = cloud.points[i];
+      std::uint8_t channel[3] = {0, 0, 0};
       for (const FileField& f : layout.fields) {
         for (std::uint32_t c = 0; c < f.count; ++c) {
           if (!nextToken(text, at, begin, length)) {
@@ -540,7 +592,7 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
           if (c > 0) continue;
           if (&f == r.x || &f == r.y || &f == r.z) {
             const float v = static_cast<float>(parseValue(path, begin, length));
-            (&f == r.x ? p.x : &f == r.y ? p.y : p.z) = v;
+            p[&f == r.x ? 0 : &f == r.y ? 1 : 2] = v;
           } else if (&f == r.packed) {
             // PCL writes a float rgb as the float whose bits are the colour.
             const double v = parseValue(path, begin, length);
@@ -551,14 +603,16 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
             } else if (v >= 0 && v <= 4294967295.0) {
               rgb = static_cast<std::uint32_t>(v);
             }
-            setColor(p, rgb);
+            cloud.rgb[i] = rgb & 0xFFFFFF;
           } else if (&f == r.red || &f == r.green || &f == r.blue) {
             const double v = parseValue(path, begin, length);
-            const auto channel = static_cast<std::uint8_t>(v >= 0 && v <= 255 ? v : 0);
-            (&f == r.red ? p.r : &f == r.green ? p.g : p.b) = channel;
+            channel[&f == r.red     ? 0
+                    : &f == r.green ? 1
+                                    : 2] = static_cast<std::uint8_t>(v >= 0 && v <= 255 ? v : 0);
           }
         }
       }
+      if (r.red) cloud.rgb[i] = rgbOf(channel[0], channel[1], channel[2]);
     }
     return cloud;
   }
@@ -566,10 +620,11 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
   if (layout.encoding == Encoding::kBinaryCompressed) {
     std::uint32_t sizes[2];
     in.read(reinterpret_cast<char*>(sizes), sizeof(sizes));
-    const std::vector<std::uint8_t> compressed = readBytes(path, in, sizes[0]);
+    std::vector<std::uint8_t> compressed;
+    readBytes(path, in, sizes[0], compressed);
     std::vector<std::uint8_t> data(sizes[1]);
     if (sizes[1] > 0 &&
-        pcl::lzfDecompress(compressed.data(), sizes[0], data.data(), sizes[1]) != sizes[1]) {
+        lzfDecompress(compressed.data(), sizes[0], data.data(), sizes[1]) != sizes[1]) {
       fail(path, "has a compressed block that does not decompress to its size");
     }
     // Stored field after field: field f of point i at start_f + i · size_f · count_f.
@@ -584,11 +639,10 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
       return data.data() + starts[k] + i * std::uint64_t(f->size) * f->count;
     };
     for (std::size_t i = 0; i < cloud.size(); ++i) {
-      pcl::PointXYZRGB& p = cloud[i];
-      p.x = static_cast<float>(binaryValue(at(r.x, i), *r.x, false));
-      p.y = static_cast<float>(binaryValue(at(r.y, i), *r.y, false));
-      p.z = static_cast<float>(binaryValue(at(r.z, i), *r.z, false));
-      if (r.packed) setColor(p, packedColor(at(r.packed, i), *r.packed));
+      cloud.points[i] = Eigen::Vector3f(static_cast<float>(binaryValue(at(r.x, i), *r.x, false)),
+                                        static_cast<float>(binaryValue(at(r.y, i), *r.y, false)),
+                                        static_cast<float>(binaryValue(at(r.z, i), *r.z, false)));
+      if (r.packed) cloud.rgb[i] = packedColor(at(r.packed, i), *r.packed) & 0xFFFFFF;
     }
     return cloud;
   }
@@ -617,8 +671,15 @@ pcl::PointCloud<pcl::PointXYZRGB> readCloudFile(const std::string& path,
       bytes > layout.file_size - std::min<std::uint64_t>(layout.file_size, layout.data_offset)) {
     fail(path, "is truncated");
   }
-  const std::vector<std::uint8_t> data = readBytes(path, in, bytes);
-  fromPointMajor(data, layout, r, swap, cloud);
+  // A block of about 1 MB at a time: the file's bytes are never held whole beside the cloud.
+  const std::size_t block_points = static_cast<std::size_t>(std::max<std::uint64_t>(
+      1, (std::uint64_t{1} << 20) / std::max<std::uint64_t>(1, layout.point_bytes)));
+  std::vector<std::uint8_t> block;
+  for (std::size_t first = 0; first < cloud.size(); first += block_points) {
+    const std::size_t count = std::min(block_points, cloud.size() - first);
+    readBytes(path, in, std::uint64_t(count) * layout.point_bytes, block);
+    fromPointMajor(block.data(), first, count, layout, r, swap, cloud);
+  }
   return cloud;
 }
 

@@ -317,11 +317,11 @@ bool lidarSection(std::ostringstream& md, const std::string& out_dir, const std:
     for (const hope::Params& params : {lidar, paper}) {
       hope::Extractor extractor(params);
       const hope::Result result = extractor.extract(
-          scan.cloud, hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()));
+          scan.view(), hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()));
       const std::string png = std::string("evaluation/lidar_room_scan1_") +
                               (params.bridge_scan_gaps ? "hope" : "paper") + ".png";
       saveImage(out_dir + "/" + png,
-                hope::tools::renderOverlay(scan.cloud, false, extractor.alignedPoints(), result));
+                hope::tools::renderOverlay(scan, extractor.alignedPoints(), result));
       md << "![" << png << "](" << png << ") ";
     }
     md << "\n";
@@ -581,11 +581,10 @@ int run(int argc, char** argv) {
         const hope::tools::InputCloud colour = hope::tools::loadCloud(path);
         for (const hope::Params& params : {defaults, no_merge}) {
           hope::Extractor extractor(params);
-          const hope::Result result = extractor.extract(colour.cloud, scene.orientation);
+          const hope::Result result = extractor.extract(colour.view(), scene.orientation);
           const std::string file = out_dir + "/evaluation/mosd_" + scene.name +
                                    (params.merge_fragments ? "_merged" : "_paper") + ".png";
-          saveImage(file, hope::tools::renderOverlay(colour.cloud, colour.has_color,
-                                                     extractor.alignedPoints(), result));
+          saveImage(file, hope::tools::renderOverlay(colour, extractor.alignedPoints(), result));
         }
       }
       std::fprintf(stderr, "mOSD: %s done\n", scene.name.c_str());
@@ -647,7 +646,7 @@ int run(int argc, char** argv) {
         const double pitch = degrees * M_PI / 180.0;
         const hope::Orientation guess =
             hope::Orientation::fromGravity(0, -std::cos(pitch), -std::sin(pitch));
-        const hope::Result rough = first.extract(colour.cloud, guess);
+        const hope::Result rough = first.extract(colour.view(), guess);
         if (rough.planes.empty() || largestOf(rough)->area < 0.1) continue;
         const Eigen::Vector3d up =
             rough.sensor_to_reference.linear().transpose() * largestOf(rough)->normal;
@@ -659,7 +658,7 @@ int run(int argc, char** argv) {
       int parts = 1;
       for (const hope::Params& params : {defaults, no_merge}) {
         hope::Extractor extractor(params);
-        const hope::Result result = extractor.extract(colour.cloud, level);
+        const hope::Result result = extractor.extract(colour.view(), level);
         counts[params.merge_fragments ? 0 : 1] = result.planes.size();
         if (params.merge_fragments && !result.planes.empty()) {
           parts = std::max_element(result.planes.begin(), result.planes.end(),
@@ -670,8 +669,7 @@ int run(int argc, char** argv) {
         const std::string png =
             "evaluation/pcl_" + file + (params.merge_fragments ? "_merged" : "_paper") + ".png";
         saveImage(out_dir + "/" + png,
-                  hope::tools::renderOverlay(colour.cloud, colour.has_color,
-                                             extractor.alignedPoints(), result));
+                  hope::tools::renderOverlay(colour, extractor.alignedPoints(), result));
         pictures += "![" + file + "](" + png + ") ";
       }
       pictures += "\n";

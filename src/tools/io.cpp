@@ -1,13 +1,12 @@
 #include "hope/tools/io.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include <pcl/io/pcd_io.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/tools/cloud_file.h"
@@ -17,30 +16,33 @@ namespace tools {
 
 namespace {
 
-// The same points, uniformly grey, keeping the organized shape: inputs without colour.
-pcl::PointCloud<pcl::PointXYZRGB> withGreyColor(const pcl::PointCloud<pcl::PointXYZ>& xyz) {
-  pcl::PointCloud<pcl::PointXYZRGB> out;
-  out.resize(xyz.size());
-  for (std::size_t i = 0; i < xyz.size(); ++i) {
-    pcl::PointXYZRGB& p = out[i];
-    p.x = xyz[i].x;
-    p.y = xyz[i].y;
-    p.z = xyz[i].z;
-    p.r = p.g = p.b = 160;
-  }
-  out.width = xyz.width;
-  out.height = xyz.height;
-  out.is_dense = xyz.is_dense;
-  return out;
+// An image's points (depth_image.h) as the tools hold a cloud, organized shape kept.
+template <class PointT>
+InputCloud fromImageCloud(const pcl::PointCloud<PointT>& image_cloud) {
+  InputCloud input;
+  input.width = image_cloud.width;
+  input.height = image_cloud.height;
+  input.points.reserve(image_cloud.size());
+  for (const PointT& p : image_cloud) input.points.emplace_back(p.x, p.y, p.z);
+  return input;
+}
+
+// A binary PCD header for `points` points of the fields x y z label.
+std::string labelsPcdHeader(const InputCloud& cloud) {
+  const PointsView shape = cloud.view();
+  std::ostringstream header;
+  header << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z label\n"
+         << "SIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH " << shape.width << "\nHEIGHT "
+         << shape.height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size()
+         << "\nDATA binary\n";
+  return header.str();
 }
 
 }  // namespace
 
 InputCloud loadCloud(const std::string& path, std::uint64_t max_points) {
   const CloudFileLayout layout = checkCloudFile(path, max_points);
-  InputCloud input;
-  input.cloud = readCloudFile(path, layout, input.has_color);
-  return input;
+  return readCloudFile(path, layout);
 }
 
 InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
@@ -48,34 +50,45 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
   requireRegularFile(depth_path);
   const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
   if (depth.empty()) throw std::runtime_error("'" + depth_path + "' is not a readable image");
-  InputCloud input;
-  if (!rgb_path.empty()) {
-    requireRegularFile(rgb_path);
-    const cv::Mat rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
-    if (rgb.empty()) throw std::runtime_error("'" + rgb_path + "' is not a readable image");
-    input.cloud = depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
-    input.has_color = true;
-  } else {
-    input.cloud = withGreyColor(depthToCloud(depth, intrinsics, depth_scale));
+  if (rgb_path.empty()) return fromImageCloud(depthToCloud(depth, intrinsics, depth_scale));
+  requireRegularFile(rgb_path);
+  const cv::Mat rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
+  if (rgb.empty()) throw std::runtime_error("'" + rgb_path + "' is not a readable image");
+  const pcl::PointCloud<pcl::PointXYZRGB> colored =
+      depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
+  InputCloud input = fromImageCloud(colored);
+  input.rgb.reserve(colored.size());
+  for (const pcl::PointXYZRGB& p : colored) {
+    input.rgb.push_back((std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b);
   }
   return input;
 }
 
-void writeLabels(const OutputFile& file, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
+// hope's own binary PCD writer (x y z label, 16 bytes a point, written a block at a time): the
+// tools then need no PCL I/O library, whose load alone costs ~20 MB of memory.
+void writeLabels(const OutputFile& file, const InputCloud& cloud,
                  const std::vector<std::uint32_t>& labels) {
-  pcl::PointCloud<pcl::PointXYZL> out;
-  out.resize(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    out[i].x = cloud[i].x;
-    out[i].y = cloud[i].y;
-    out[i].z = cloud[i].z;
-    out[i].label = labels[i];
+  if (labels.size() != cloud.size()) {
+    throw std::logic_error("writeLabels: one label per point is needed");
   }
-  out.width = cloud.width;
-  out.height = cloud.height;
-  out.is_dense = cloud.is_dense;
   errno = 0;
-  if (pcl::io::savePCDFileBinary(file.writePath(), out) < 0) throwCannotWrite(file.path());
+  std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
+  if (!out) throwCannotWrite(file.path());
+  out << labelsPcdHeader(cloud);
+  constexpr std::size_t kBlockPoints = 1 << 16;
+  std::vector<std::uint8_t> block;
+  for (std::size_t first = 0; first < cloud.size() && out; first += kBlockPoints) {
+    const std::size_t count = std::min(kBlockPoints, cloud.size() - first);
+    block.resize(count * 16);
+    for (std::size_t k = 0; k < count; ++k) {
+      std::memcpy(&block[16 * k], cloud.points[first + k].data(), 12);
+      std::memcpy(&block[16 * k + 12], &labels[first + k], 4);
+    }
+    out.write(reinterpret_cast<const char*>(block.data()),
+              static_cast<std::streamsize>(block.size()));
+  }
+  out.close();
+  if (out.fail()) throwCannotWrite(file.path());
 }
 
 void writeImage(const OutputFile& file, const cv::Mat& image) {

@@ -48,16 +48,16 @@ cv::Vec3b tint(const cv::Vec3b& base, const cv::Vec3b& color) {
                    static_cast<uchar>((base[2] + 2 * color[2]) / 3));
 }
 
-cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
-                     const Result& result) {
+cv::Mat imageOverlay(const InputCloud& cloud, const Result& result) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
   float near = HUGE_VALF, far = 0;
+  const bool has_color = cloud.hasColor();
   if (!has_color) {
-    for (const auto& p : cloud) {
-      if (std::isfinite(p.z)) {
-        near = std::min(near, p.z);
-        far = std::max(far, p.z);
+    for (const Eigen::Vector3f& p : cloud.points) {
+      if (std::isfinite(p.z())) {
+        near = std::min(near, p.z());
+        far = std::max(far, p.z());
       }
     }
   }
@@ -66,12 +66,14 @@ cv::Mat imageOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_co
   for (int r = 0; r < h; ++r) {
     for (int c = 0; c < w; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * w + c;
-      const pcl::PointXYZRGB& p = cloud[i];
+      const float z = cloud.points[i].z();
       cv::Vec3b base(0, 0, 0);
       if (has_color) {
-        base = cv::Vec3b(p.b, p.g, p.r);
-      } else if (std::isfinite(p.z) && far > near) {
-        const auto grey = static_cast<uchar>(230 - 180 * (p.z - near) / (far - near));
+        const std::uint32_t rgb = cloud.rgb[i];
+        base = cv::Vec3b(static_cast<uchar>(rgb), static_cast<uchar>(rgb >> 8),
+                         static_cast<uchar>(rgb >> 16));
+      } else if (std::isfinite(z) && far > near) {
+        const auto grey = static_cast<uchar>(230 - 180 * (z - near) / (far - near));
         base = cv::Vec3b(grey, grey, grey);
       }
       const int label = result.point_labels[i];
@@ -144,13 +146,12 @@ cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result) {
 
 }  // namespace
 
-cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
-                      const AlignedPoints& aligned, const Result& result) {
+cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result) {
   // A camera's image is at most a few times wider than high; a spinning LiDAR's rings x azimuth
   // layout (16-128 rows, 1000-4000 columns) reads better from above.
   const bool image_like = cloud.height > 1 && cloud.width <= 4 * cloud.height;
-  if (image_like && cloud.width * cloud.height == cloud.size()) {
-    return imageOverlay(cloud, has_color, result);
+  if (image_like && std::uint64_t{cloud.width} * cloud.height == cloud.size()) {
+    return imageOverlay(cloud, result);
   }
   return topDownOverlay(aligned, result);
 }

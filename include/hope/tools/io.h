@@ -4,8 +4,6 @@
 #include <string>
 #include <vector>
 
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 #include <opencv2/core.hpp>
 
 #include "hope/depth_image.h"
@@ -14,11 +12,6 @@
 
 namespace hope {
 namespace tools {
-
-struct InputCloud {
-  pcl::PointCloud<pcl::PointXYZRGB> cloud;  // grey where the input has no colour
-  bool has_color = false;
-};
 
 // Reads a .pcd or .ply file; x, y, z may be float32 or float64. Throws std::runtime_error with
 // a message naming the file and the problem when it is missing, unreadable, not a regular
@@ -33,7 +26,7 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
 
 // Writes x, y, z (as read) and one `label` per input point, same count, order and
 // width × height as the input, as binary PCD. Throws std::runtime_error when it cannot.
-void writeLabels(const OutputFile& file, const pcl::PointCloud<pcl::PointXYZRGB>& cloud,
+void writeLabels(const OutputFile& file, const InputCloud& cloud,
                  const std::vector<std::uint32_t>& labels);
 
 // Writes an image in the format of the file's extension (.png, .jpg, …); throws

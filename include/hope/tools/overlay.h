@@ -3,13 +3,12 @@
 
 #include <vector>
 
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "hope/extractor.h"
 #include "hope/plane_colors.h"
+#include "hope/tools/cloud_file.h"
 
 namespace hope {
 namespace tools {
@@ -22,8 +21,7 @@ cv::Vec3b planeColor(int id);
 // (its colour, or a grey depth rendering) with every plane's pixels tinted by its id and
 // "id: height" written on it. Otherwise (unorganized, or a LiDAR's rings x azimuth): a
 // top-down view of the aligned points, planes tinted, outlines drawn and labelled.
-cv::Mat renderOverlay(const pcl::PointCloud<pcl::PointXYZRGB>& cloud, bool has_color,
-                      const AlignedPoints& aligned, const Result& result);
+cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result);
 
 // A top-down view of `points` over [x0, x1] × [y0, y1] on a `size`-pixel square, each point
 // coloured by its label (VOC colour label + 1; label -1 grey, shaded by height).

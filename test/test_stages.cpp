@@ -226,6 +226,16 @@ TEST(GridFilter, ThreadedPassEqualsThePlainReference) {
     grid.build(image, 0.05, 0.02, organized);
     expectSameAsReference(grid, image, 0.05, 0.02);
   }
+  // The sparse column path over several chunks (a point 2.5 km away makes the grid too wide
+  // for a dense column table): a voxel's entries from different chunks joined in chunk order.
+  std::vector<Eigen::Vector3f> with_far_point = scattered;
+  with_far_point.emplace_back(2500.f, 1.f, 0.5f);
+  for (int threads : {1, 2}) {
+    GridHints plain;
+    plain.threads = threads;
+    grid.build(with_far_point, 0.05, 0.02, plain);
+    expectSameAsReference(grid, with_far_point, 0.05, 0.02);
+  }
 }
 
 TEST(GridFilter, ACloudSpanningMoreCellsThanSupportedIsAClearError) {

@@ -40,6 +40,7 @@ struct VoxelList {
   std::vector<std::uint32_t> iz, count;
   std::vector<Eigen::Vector3d> sum;
   void clear();
+  void append(const VoxelList& other);  // other's voxels after these
   std::size_t size() const { return key.size(); }
 };
 
@@ -116,27 +117,28 @@ class VoxelGrid {
  private:
   std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
   // Pass 2 of build(): each chunk's points assigned to the chunk's own voxels (point_voxel_
-  // holds the chunk's voxel numbers), on up to `threads` threads; then the chunks' voxels
-  // merged in chunk order into found_, which numbers every voxel by its first appearance in
-  // the cloud, with its key, point count and coordinate sums.
+  // holds the chunk's voxel numbers), with their keys, point counts and coordinate sums, on up
+  // to `threads` threads.
   void assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, std::size_t row_width,
                             int threads);
-  // Pass 3: voxels renumbered in (column, z cell) order, and the points' voxels with them.
-  void orderVoxels(std::uint64_t nz, bool dense_columns, int threads);
+  // Pass 3: the chunks' voxels sorted by (column, z cell) and a key's entries joined into one
+  // voxel (counts and sums added in chunk order); the points' voxels renumbered with them.
+  void orderVoxels(bool dense_columns, int threads);
+  void sortEntriesByKey();  // into sorted_
 
   double r_xy_ = 0, r_z_ = 0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d extent_ = Eigen::Vector3d::Zero();
   std::uint64_t nx_ = 1, ny_ = 1;
 
-  std::vector<detail::VoxelIndex> indexes_;  // one per thread
-  std::vector<detail::VoxelList> chunks_;    // the voxels of each chunk of points
-  detail::VoxelIndex merged_index_;
-  detail::VoxelList found_;                 // all voxels, numbered by first appearance
-  std::vector<std::uint32_t> chunk_begin_;  // per chunk: offset of its voxels in to_found_
-  std::vector<std::uint32_t> to_found_;     // chunk voxel → voxel of found_
-  std::vector<std::uint32_t> sorted_;       // first-appearance numbers in (column, z cell) order
-  std::vector<std::uint32_t> renumber_, counts_, by_z_;
+  std::vector<detail::VoxelIndex> indexes_;       // one per thread
+  std::vector<detail::VoxelList> chunks_;         // the voxels of each chunk of points
+  detail::VoxelList entries_;                     // every chunk's voxels, chunk after chunk
+  std::vector<std::uint32_t> chunk_begin_;        // per chunk: offset of its voxels in entries_
+  std::vector<std::uint32_t> sorted_;             // entries in (column, z cell, chunk) order
+  std::vector<std::uint32_t> entry_voxel_;        // entry → voxel
+  std::vector<std::uint32_t> counts_, by_digit_;  // radix sort: buckets, the other buffer
+  std::vector<Eigen::Vector3d> sums_;             // per voxel: coordinate sums
 
   std::vector<std::int32_t> point_voxel_;
   std::vector<std::uint32_t> count_;  // points per voxel

@@ -44,7 +44,9 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   if (n > std::numeric_limits<std::int32_t>::max()) {
     throw std::invalid_argument("clouds of more than 2^31 points are not supported");
   }
-  point_voxel_.assign(n, -1);
+  // Every entry is written by the point pass (-1 for non-finite points), or below when no
+  // point is finite.
+  point_voxel_.resize(n);
   centroid_.clear();
   column_.clear();
   iz_.clear();
@@ -71,7 +73,10 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
       ++m;
     }
   }
-  if (m == 0) return;
+  if (m == 0) {
+    point_voxel_.assign(n, -1);
+    return;
+  }
 
   origin_ = lo.cast<double>();
   const Eigen::Vector3d extent = hi.cast<double>() - origin_;
@@ -81,7 +86,7 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
   assignPointsToVoxels(aligned, nz, hints.row_width, parallel::resolve(hints.threads));
-  orderVoxels(nz, nx_ * ny_ <= denseColumnLimit(m), hints.threads);
+  orderVoxels(nx_ * ny_ <= denseColumnLimit(m), hints.threads);
 }
 
 namespace {
@@ -139,7 +144,10 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
       above = &row_above[column_in_row];
       if (++column_in_row == row_width) column_in_row = 0;
     }
-    if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) continue;  // NaN/inf
+    if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) {  // NaN/inf
+      point_voxel[i] = -1;
+      continue;
+    }
     const double px = xyz[0], py = xyz[1], pz = xyz[2];
     const std::uint64_t ix = CellMath::cell(px - g.ox, g.inv_xy, g.nx);
     const std::uint64_t iy = CellMath::cell(py - g.oy, g.inv_xy, g.ny);
@@ -181,6 +189,14 @@ void VoxelList::clear() {
   iz.clear();
   count.clear();
   sum.clear();
+}
+
+void VoxelList::append(const VoxelList& other) {
+  key.insert(key.end(), other.key.begin(), other.key.end());
+  column.insert(column.end(), other.column.begin(), other.column.end());
+  iz.insert(iz.end(), other.iz.begin(), other.iz.end());
+  count.insert(count.end(), other.count.begin(), other.count.end());
+  sum.insert(sum.end(), other.sum.begin(), other.sum.end());
 }
 
 void VoxelIndex::reset(std::size_t row_width) {
@@ -256,87 +272,103 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t
                   point_voxel_.data());
     }
   });
-  // The chunks' voxels in chunk order, each chunk's in its order of appearance: the order of
-  // first appearance over the whole cloud. Counts and sums are added in that order.
-  found_.clear();
-  merged_index_.reset(0);
+  // Every chunk's voxels side by side: entry chunk_begin_[c] + local is voxel `local` of chunk c.
   chunk_begin_.resize(num_chunks + 1);
   chunk_begin_[0] = 0;
   for (std::size_t c = 0; c < num_chunks; ++c) {
     chunk_begin_[c + 1] = chunk_begin_[c] + static_cast<std::uint32_t>(chunks_[c].size());
   }
-  to_found_.resize(chunk_begin_[num_chunks]);
-  for (std::size_t c = 0; c < num_chunks; ++c) {
-    const detail::VoxelList& list = chunks_[c];
-    for (std::size_t local = 0; local < list.size(); ++local) {
-      const std::uint32_t v =
-          merged_index_.voxelOf(list.key[local], list.column[local], list.iz[local], found_);
-      found_.count[v] += list.count[local];
-      found_.sum[v] += list.sum[local];
-      to_found_[chunk_begin_[c] + local] = v;
+}
+
+// Entries sorted by key, ties in entry (chunk) order: a least-significant-digit radix sort,
+// stable, 11 bits a pass and as many passes as the largest key needs. Linear in the entries
+// whatever the grid's size: a counting sort by column would sweep every column of a sparse
+// LiDAR grid (hundreds of thousands for ~20,000 voxels).
+void VoxelGrid::sortEntriesByKey() {
+  constexpr int kDigitBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
+  const std::size_t num_entries = entries_.size();
+  sorted_.resize(num_entries);
+  for (std::size_t e = 0; e < num_entries; ++e) sorted_[e] = static_cast<std::uint32_t>(e);
+  std::uint64_t max_key = 0;
+  for (const std::uint64_t key : entries_.key) max_key = std::max(max_key, key);
+  by_digit_.resize(num_entries);
+  counts_.resize(kBuckets);
+  for (int shift = 0; shift < 64 && (max_key >> shift) != 0; shift += kDigitBits) {
+    std::fill(counts_.begin(), counts_.end(), 0);
+    for (const std::uint32_t e : sorted_) ++counts_[(entries_.key[e] >> shift) & (kBuckets - 1)];
+    std::uint32_t offset = 0;
+    for (std::uint32_t& count : counts_) {
+      const std::uint32_t bucket_size = count;
+      count = offset;
+      offset += bucket_size;
     }
+    for (const std::uint32_t e : sorted_) {
+      by_digit_[counts_[(entries_.key[e] >> shift) & (kBuckets - 1)]++] = e;
+    }
+    sorted_.swap(by_digit_);
   }
 }
 
-// Voxels sorted by key, i.e. by column (x-major within each row of y) and inside a column by
-// z cell; then the points' voxels are renumbered (each point on its own: split across threads).
-void VoxelGrid::orderVoxels(std::uint64_t nz, bool dense_columns, int threads) {
-  const detail::VoxelList& table = found_;
-  const std::size_t num_voxels = table.size();
-  sorted_.resize(num_voxels);
-  if (dense_columns) {
-    // Two stable counting sorts, by z cell and then by column: linear in the voxels, where a
-    // comparison sort of tens of thousands of fine voxels costs milliseconds.
-    const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
-    counts_.assign(std::max<std::size_t>(num_columns, nz) + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[table.iz[v] + 1];
-    for (std::size_t b = 1; b <= nz; ++b) counts_[b] += counts_[b - 1];
-    by_z_.resize(num_voxels);
-    for (std::size_t v = 0; v < num_voxels; ++v) {
-      by_z_[counts_[table.iz[v]]++] = static_cast<std::uint32_t>(v);
+// The chunks' voxels sorted by key, i.e. by column (x-major within each row of y) and inside a
+// column by z cell, entries of one key in chunk order; runs of one key become one voxel, its
+// counts and sums added in chunk order. Then the points' chunk voxels are renumbered (each
+// point on its own: split across threads).
+void VoxelGrid::orderVoxels(bool dense_columns, int threads) {
+  const std::size_t num_chunks = chunk_begin_.size() - 1;
+  const std::size_t num_entries = chunk_begin_[num_chunks];
+  entries_.clear();
+  for (std::size_t c = 0; c < num_chunks; ++c) entries_.append(chunks_[c]);
+  sortEntriesByKey();
+  // A run of one key is one voxel.
+  entry_voxel_.resize(num_entries);
+  column_.resize(num_entries);
+  iz_.resize(num_entries);
+  count_.resize(num_entries);
+  sums_.resize(num_entries);
+  std::size_t num_voxels = 0;
+  for (std::size_t r = 0; r < num_entries; ++r) {
+    const std::uint32_t e = sorted_[r];
+    if (r == 0 || entries_.key[e] != entries_.key[sorted_[r - 1]]) {
+      column_[num_voxels] = entries_.column[e];
+      iz_[num_voxels] = static_cast<std::int32_t>(entries_.iz[e]);
+      count_[num_voxels] = 0;
+      sums_[num_voxels] = Eigen::Vector3d::Zero();
+      ++num_voxels;
     }
-    std::fill(counts_.begin(), counts_.begin() + num_columns + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++counts_[table.column[v] + 1];
-    for (std::size_t b = 1; b <= num_columns; ++b) counts_[b] += counts_[b - 1];
-    for (const std::uint32_t v : by_z_) sorted_[counts_[table.column[v]]++] = v;
-  } else {
-    for (std::size_t v = 0; v < num_voxels; ++v) sorted_[v] = static_cast<std::uint32_t>(v);
-    std::sort(sorted_.begin(), sorted_.end(),
-              [&table](std::uint32_t a, std::uint32_t b) { return table.key[a] < table.key[b]; });
+    count_[num_voxels - 1] += entries_.count[e];
+    sums_[num_voxels - 1] += entries_.sum[e];
+    entry_voxel_[e] = static_cast<std::uint32_t>(num_voxels - 1);
   }
-  renumber_.resize(num_voxels);
   column_.resize(num_voxels);
   iz_.resize(num_voxels);
-  centroid_.resize(num_voxels);
   count_.resize(num_voxels);
-  for (std::size_t r = 0; r < num_voxels; ++r) {
-    const std::uint32_t found = sorted_[r];
-    renumber_[found] = static_cast<std::uint32_t>(r);
-    column_[r] = table.column[found];
-    iz_[r] = static_cast<std::int32_t>(table.iz[found]);
-    count_[r] = table.count[found];
-    centroid_[r] = (table.sum[found] / static_cast<double>(count_[r])).cast<float>();
+  centroid_.resize(num_voxels);
+  for (std::size_t v = 0; v < num_voxels; ++v) {
+    centroid_[v] = (sums_[v] / static_cast<double>(count_[v])).cast<float>();
   }
   parallel::forShares(point_voxel_.size(), parallel::resolve(threads), std::size_t{1} << 15,
                       [this](int /*share*/, std::size_t begin, std::size_t end) {
-                        // A point's number is its chunk's voxel: through the merge's
-                        // numbering to the final one.
+                        // A point's number is its chunk's voxel: through its entry to the
+                        // voxel.
                         for (std::size_t i = begin; i < end; ++i) {
                           const std::int32_t local = point_voxel_[i];
                           if (local >= 0) {
-                            const std::uint32_t found =
-                                to_found_[chunk_begin_[i / kPointsPerChunk] + local];
-                            point_voxel_[i] = static_cast<std::int32_t>(renumber_[found]);
+                            point_voxel_[i] = static_cast<std::int32_t>(
+                                entry_voxel_[chunk_begin_[i / kPointsPerChunk] + local]);
                           }
                         }
                       });
 
   if (dense_columns) {
-    dense_column_begin_.assign(nx_ * ny_ + 1, 0);
-    for (std::size_t v = 0; v < num_voxels; ++v) ++dense_column_begin_[column_[v] + 1];
-    for (std::size_t c = 1; c < dense_column_begin_.size(); ++c) {
-      dense_column_begin_[c] += dense_column_begin_[c - 1];
+    // Column c's voxels begin at the first voxel of a column >= c: one write per column.
+    const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
+    dense_column_begin_.resize(num_columns + 1);
+    std::size_t c = 0;
+    for (std::size_t v = 0; v < num_voxels; ++v) {
+      while (c <= column_[v]) dense_column_begin_[c++] = static_cast<std::uint32_t>(v);
     }
+    while (c <= num_columns) dense_column_begin_[c++] = static_cast<std::uint32_t>(num_voxels);
   } else {
     for (std::size_t v = 0; v < num_voxels;) {
       std::size_t end = v + 1;

@@ -99,16 +99,17 @@ std::size_t slotOf(std::uint64_t key, std::size_t mask) {
   return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
 }
 
-// The cell arithmetic of the point pass, in locals the compiler can keep in registers.
+// The cell arithmetic of the point pass. assignRange copies it into locals: through a
+// reference the compiler would reload every field after each store into the tables.
 struct CellMath {
   double ox, oy, oz, inv_xy, inv_z;
   std::uint64_t nx, ny, nz;
   // (p - origin) / leaf is never negative here, so the cheaper signed conversion truncates
-  // exactly as an unsigned one would. Clamping guards against the floating-point case where
-  // it lands exactly on the cell count.
-  static std::uint64_t cell(double offset, double inverse_leaf, std::uint64_t cells) {
+  // exactly as an unsigned one would. Clamping to the last cell guards against the
+  // floating-point case where it lands exactly on the cell count.
+  static std::uint64_t cell(double offset, double inverse_leaf, std::uint64_t last_cell) {
     return std::min(static_cast<std::uint64_t>(static_cast<std::int64_t>(offset * inverse_leaf)),
-                    cells - 1);
+                    last_cell);
   }
 };
 
@@ -126,6 +127,8 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
                  detail::VoxelList& list, std::int32_t* point_voxel) {
   const std::uint8_t* data = aligned.data;
   const std::size_t stride = aligned.stride;
+  const double ox = g.ox, oy = g.oy, oz = g.oz, inv_xy = g.inv_xy, inv_z = g.inv_z;
+  const std::uint64_t nx = g.nx, nz = g.nz, last_x = g.nx - 1, last_y = g.ny - 1, last_z = g.nz - 1;
   std::pair<std::uint64_t, std::uint32_t>* row_above = index.row_above.data();
   std::size_t column_in_row = row_width > 0 ? begin % row_width : 0;
   std::uint64_t last_key = kEmptySlot;
@@ -149,11 +152,11 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
       continue;
     }
     const double px = xyz[0], py = xyz[1], pz = xyz[2];
-    const std::uint64_t ix = CellMath::cell(px - g.ox, g.inv_xy, g.nx);
-    const std::uint64_t iy = CellMath::cell(py - g.oy, g.inv_xy, g.ny);
-    const std::uint64_t iz = CellMath::cell(pz - g.oz, g.inv_z, g.nz);
-    const std::uint64_t column = ix + g.nx * iy;
-    const std::uint64_t key = column * g.nz + iz;  // < 2^42 · 2^21
+    const std::uint64_t ix = CellMath::cell(px - ox, inv_xy, last_x);
+    const std::uint64_t iy = CellMath::cell(py - oy, inv_xy, last_y);
+    const std::uint64_t iz = CellMath::cell(pz - oz, inv_z, last_z);
+    const std::uint64_t column = ix + nx * iy;
+    const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
     if (key != last_key) {
       storeRun();
       last_key = key;

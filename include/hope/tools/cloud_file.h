@@ -18,7 +18,7 @@ namespace hope {
 namespace tools {
 
 // Default cap on the points a file may claim (a 6.5 M-point merged room is large; 100 M
-// points of PointXYZRGB are 3.2 GB in memory). `hope_extract --max-points` raises it.
+// points with colour are 1.6 GB in memory). `hope_extract --max-points` raises it.
 constexpr std::uint64_t kDefaultMaxPoints = 100000000;
 
 // A cloud as the tools hold it: 12 bytes a point, 16 with colour. A 6 M-point scan takes

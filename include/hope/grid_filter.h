@@ -4,6 +4,7 @@
 // voxels by grid column so that the later stages find neighbours without a k-d tree.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
@@ -109,6 +110,13 @@ class VoxelGrid {
     const std::uint64_t c = static_cast<std::uint64_t>(cx) + nx_ * static_cast<std::uint64_t>(cy);
     if (!dense_column_begin_.empty()) return {dense_column_begin_[c], dense_column_begin_[c + 1]};
     return sparseColumnVoxels(c);
+  }
+  // The first voxel of `range` (one column's voxels, from columnVoxels) whose z cell is at least
+  // `iz`, or range.second: the stages that look a few z cells around a voxel search a tall
+  // column (a wall, an object's side at a fine r_z) instead of walking it from the floor.
+  std::uint32_t firstAtOrAbove(std::pair<std::uint32_t, std::uint32_t> range, int iz) const {
+    return static_cast<std::uint32_t>(
+        std::lower_bound(iz_.begin() + range.first, iz_.begin() + range.second, iz) - iz_.begin());
   }
   // The xy rectangle covered by column (cx, cy).
   double cellMinX(std::int64_t cx) const { return origin_.x() + cx * r_xy_; }

@@ -37,10 +37,8 @@ NormalNeighbourhood::Moments NormalNeighbourhood::moments(std::size_t v) const {
   Moments m;
   for (const auto& [dx, dy] : offsets_) {
     const auto range = grid_.columnVoxels(cx + dx, cy + dy);
-    for (std::uint32_t u = range.first; u < range.second; ++u) {
-      const int uz = grid_.cellZ(u);
-      if (uz < cz - reach_z_) continue;
-      if (uz > cz + reach_z_) break;  // a column's voxels are sorted by z cell
+    for (std::uint32_t u = grid_.firstAtOrAbove(range, cz - reach_z_); u < range.second; ++u) {
+      if (grid_.cellZ(u) > cz + reach_z_) break;  // a column's voxels are sorted by z cell
       const Eigen::Vector3f d = grid_.centroid(u) - p;
       if (std::fabs(d.z()) > max_dz_) continue;
       m.sum += d;

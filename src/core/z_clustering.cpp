@@ -43,11 +43,9 @@ std::vector<std::vector<std::uint32_t>> zClustering(const VoxelGrid& grid,
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const auto range = grid.columnVoxels(cx + dx, cy + dy);
-          for (std::uint32_t u = range.first; u < range.second; ++u) {
-            const int uz = grid.cellZ(u);
-            // Centroids less than r_z apart are at most one z cell apart.
-            if (uz < cz - 1) continue;
-            if (uz > cz + 1) break;
+          // Centroids less than r_z apart are at most one z cell apart.
+          for (std::uint32_t u = grid.firstAtOrAbove(range, cz - 1); u < range.second; ++u) {
+            if (grid.cellZ(u) > cz + 1) break;
             if (visited[u] || !is_candidate[u]) continue;
             if (std::fabs(grid.centroid(u).z() - z) >= max_step) continue;
             visited[u] = 1;

@@ -205,6 +205,21 @@ TEST(Extractor, HeightBandAndMinimumAreaDropPlanes) {
   Result banded = extractZUp(cloud.cloud, params);
   ASSERT_EQ(banded.planes.size(), 1u);
   EXPECT_NEAR(banded.planes[0].height, 0.75, 0.002);
+  EXPECT_GE(banded.planes[0].hull.size(), 4u);  // the kept plane is measured in full
+  // The dropped floor's points are on no plane; the table's are all on plane 0.
+  ASSERT_EQ(banded.point_labels.size(), cloud.cloud.size());
+  std::size_t floor_points = 0, table_points = 0;
+  for (std::size_t i = 0; i < cloud.cloud.size(); ++i) {
+    if (cloud.labels[i] == 0) {
+      ++floor_points;
+      EXPECT_EQ(banded.point_labels[i], -1) << "floor point " << i;
+    } else {
+      ++table_points;
+      EXPECT_EQ(banded.point_labels[i], 0) << "table point " << i;
+    }
+  }
+  EXPECT_GT(floor_points, 1000u);
+  EXPECT_GT(table_points, 100u);
   params = Params();
   params.min_area = 0.5;
   Result big = extractZUp(cloud.cloud, params);

@@ -241,53 +241,44 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
       surface.plane = std::move(again);
     });
   }
-  // Each surface measured in full, as the paper's planes are: bbox and hull from the points,
-  // for all surfaces in one read of the points' voxels.
-  {
-    std::vector<const std::vector<std::uint32_t>*> members;
-    std::vector<HorizontalPlane*> planes;
-    for (Surface& surface : surfaces) {
-      members.push_back(&surface.voxels);
-      planes.push_back(&surface.plane);
-    }
-    describeInFull(grid_, aligned_view_, members, planes, threads);
-  }
-
-  // Ids in order, after the optional height band and minimum area; the voxels of a dropped
-  // surface belong to no plane.
+  // Ids in order, after the optional height band and minimum area (both known from the voxels;
+  // heights as translate() makes them): the voxels of a dropped surface belong to no plane, and
+  // only the kept surfaces are measured in full.
   std::vector<std::int32_t> plane_of_surface(surfaces.size(), -1);
+  std::vector<const std::vector<std::uint32_t>*> kept_voxels;
+  std::vector<HorizontalPlane*> kept;
   for (std::size_t k = 0; k < surfaces.size(); ++k) {
-    HorizontalPlane& plane = surfaces[k].plane;
-    plane.translate(result.local_origin);
-    if (plane.height < params_.min_height || plane.height > params_.max_height ||
+    const HorizontalPlane& plane = surfaces[k].plane;
+    const double height = plane.height + result.local_origin.z();
+    if (height < params_.min_height || height > params_.max_height ||
         plane.area < params_.min_area) {
       ++result.rejected_by_band_or_area;
       continue;
     }
-    if (orientation.viewpoint()) {
-      const Eigen::Vector3d& eye = *orientation.viewpoint();
-      plane.facing = plane.normal.dot(eye - plane.centroid) >= 0 ? Facing::kUp : Facing::kDown;
-    }
-    plane.id = static_cast<int>(result.planes.size());
-    plane_of_surface[k] = plane.id;
-    result.planes.push_back(std::move(plane));
+    plane_of_surface[k] = static_cast<std::int32_t>(kept.size());
+    kept_voxels.push_back(&surfaces[k].voxels);
+    kept.push_back(&surfaces[k].plane);
   }
   for (std::int32_t& owner : voxel_plane_) {
     if (owner >= 0) owner = plane_of_surface[static_cast<std::size_t>(owner)];
   }
+  // Each kept surface measured in full, as the paper's planes are: bbox and hull from the
+  // points, for all surfaces in one read of the points' voxels, which labels the points too.
+  PointLabelling labelling;
   if (outputs.point_labels) {
-    // Point labels in one sequential pass over the points' voxels (the voxel → plane table is
-    // small enough to stay in cache), rather than scattered writes plane by plane.
-    const std::vector<std::int32_t>& point_voxel = grid_.pointVoxel();
-    result.point_labels.assign(cloud.count, -1);
-    parallel::forShares(point_voxel.size(), threads, std::size_t{1} << 15,
-                        [&](int /*share*/, std::size_t begin, std::size_t end) {
-                          for (std::size_t i = begin; i < end; ++i) {
-                            if (point_voxel[i] >= 0) {
-                              result.point_labels[i] = voxel_plane_[point_voxel[i]];
-                            }
-                          }
-                        });
+    result.point_labels.resize(cloud.count);
+    labelling.voxel_label = &voxel_plane_;
+    labelling.point_labels = result.point_labels.data();
+  }
+  describeInFull(grid_, aligned_view_, kept_voxels, kept, threads, labelling);
+  for (HorizontalPlane* plane : kept) {
+    plane->translate(result.local_origin);
+    if (orientation.viewpoint()) {
+      const Eigen::Vector3d& eye = *orientation.viewpoint();
+      plane->facing = plane->normal.dot(eye - plane->centroid) >= 0 ? Facing::kUp : Facing::kDown;
+    }
+    plane->id = static_cast<int>(result.planes.size());
+    result.planes.push_back(std::move(*plane));
   }
   result.timings.description_ms += stage.lap();
   result.timings.total_ms = total.lap();

@@ -207,9 +207,10 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligne
 
 void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
                     const std::vector<const std::vector<std::uint32_t>*>& members,
-                    const std::vector<HorizontalPlane*>& planes, int threads) {
+                    const std::vector<HorizontalPlane*>& planes, int threads,
+                    const PointLabelling& labelling) {
   const std::size_t num_planes = planes.size();
-  if (num_planes == 0) return;
+  if (num_planes == 0 && !labelling.point_labels) return;
   threads = parallel::resolve(threads);
   // The plane of each voxel at a plane's rim (see InteriorTest); -1 for the others, whose
   // points are inside their plane's hull and within its bbox.
@@ -227,20 +228,24 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
   constexpr int kMaxShares = 64;
   std::vector<std::vector<Eigen::Vector2d>> candidates[kMaxShares];
   const std::vector<std::int32_t>& point_voxel = grid.pointVoxel();
-  const int shares =
-      parallel::forShares(point_voxel.size(), std::min(threads, kMaxShares), std::size_t{1} << 15,
-                          [&](int share, std::size_t begin, std::size_t end) {
-                            std::vector<std::vector<Eigen::Vector2d>>& mine = candidates[share];
-                            mine.assign(num_planes, {});
-                            for (std::size_t i = begin; i < end; ++i) {
-                              const std::int32_t v = point_voxel[i];
-                              if (v < 0) continue;
-                              const std::int32_t k = rim_owner[static_cast<std::size_t>(v)];
-                              if (k < 0) continue;
-                              const Eigen::Vector3f p = aligned[i];
-                              mine[static_cast<std::size_t>(k)].emplace_back(p.x(), p.y());
-                            }
-                          });
+  const int shares = parallel::forShares(
+      point_voxel.size(), std::min(threads, kMaxShares), std::size_t{1} << 15,
+      [&](int share, std::size_t begin, std::size_t end) {
+        std::vector<std::vector<Eigen::Vector2d>>& mine = candidates[share];
+        mine.assign(num_planes, {});
+        std::int32_t* labels = labelling.point_labels;
+        for (std::size_t i = begin; i < end; ++i) {
+          const std::int32_t v = point_voxel[i];
+          if (labels) {
+            labels[i] = v < 0 ? -1 : (*labelling.voxel_label)[static_cast<std::size_t>(v)];
+          }
+          if (v < 0) continue;
+          const std::int32_t k = rim_owner[static_cast<std::size_t>(v)];
+          if (k < 0) continue;
+          const Eigen::Vector3f p = aligned[i];
+          mine[static_cast<std::size_t>(k)].emplace_back(p.x(), p.y());
+        }
+      });
   parallel::forEach(num_planes, threads, [&](std::size_t k) {
     HorizontalPlane& plane = *planes[k];
     if (members[k]->empty()) return;

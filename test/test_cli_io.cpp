@@ -1,5 +1,6 @@
 // hope_extract and hope_synth as a user runs them: files in, files and exit codes out.
 #include <sys/wait.h>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +27,29 @@ TEST(Tools, VocColorTableMatchesPascal) {
   EXPECT_EQ(tools::vocColor(2), cv::Vec3b(0, 128, 0));
   EXPECT_EQ(tools::vocColor(3), cv::Vec3b(0, 128, 128));
   EXPECT_EQ(tools::vocColor(15), cv::Vec3b(128, 128, 192));
+}
+
+// A file's width × height is the image shape only when it accounts for every point: a PCL
+// cloud and a read file (InputCloud) give the same view, one row when the header disagrees.
+TEST(Tools, CloudViewsKeepTheImageShapeOnlyWhenItCountsEveryPoint) {
+  pcl::PointCloud<pcl::PointXYZ> pcl_cloud;
+  pcl_cloud.resize(6);
+  tools::InputCloud input;
+  input.points.resize(6);
+  for (const auto& [width, height, expect_width, expect_height] :
+       std::vector<std::array<std::uint32_t, 4>>{
+           {3, 2, 3, 2}, {6, 1, 6, 1}, {4, 2, 6, 1}, {0, 0, 6, 1}, {2, 2, 6, 1}}) {
+    pcl_cloud.width = width;
+    pcl_cloud.height = height;
+    input.width = width;
+    input.height = height;
+    for (const PointsView& view : {PointsView::of(pcl_cloud), input.view()}) {
+      EXPECT_EQ(view.count, 6u);
+      EXPECT_EQ(view.width, expect_width) << width << " x " << height;
+      EXPECT_EQ(view.height, expect_height) << width << " x " << height;
+    }
+  }
+  EXPECT_EQ(packRgb({0x12, 0x34, 0x56}), 0x123456u);
 }
 
 TEST(Tools, ParseNumbersSaysWhatIsWrong) {

@@ -20,6 +20,14 @@ struct PointsView {
 
   bool organized() const { return height > 1; }
 
+  // Sets width × height to the image shape a header gives when it accounts for every point,
+  // and to one row of `count` points otherwise (an inconsistent header is not trusted).
+  void setShape(std::uint32_t image_width, std::uint32_t image_height) {
+    const bool consistent = std::uint64_t{image_width} * image_height == count;
+    width = consistent ? image_width : static_cast<std::uint32_t>(count);
+    height = consistent ? image_height : 1;
+  }
+
   float x(std::size_t i) const { return load(i, x_offset); }
   float y(std::size_t i) const { return load(i, y_offset); }
   float z(std::size_t i) const { return load(i, z_offset); }
@@ -34,12 +42,7 @@ struct PointsView {
     v.x_offset = offsetof(PointT, x);
     v.y_offset = offsetof(PointT, y);
     v.z_offset = offsetof(PointT, z);
-    v.width = cloud.width;
-    v.height = cloud.height;
-    if (static_cast<std::size_t>(v.width) * v.height != v.count) {  // inconsistent header
-      v.width = static_cast<std::uint32_t>(v.count);
-      v.height = 1;
-    }
+    v.setShape(cloud.width, cloud.height);
     return v;
   }
 

@@ -175,23 +175,32 @@ sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
   // The colour and label of each plane index once, not per point: entry 0 is "on no plane"
   // (grey, label 0), entry k + 1 plane k (its id's colour, label id + 1).
   std::vector<std::array<std::uint32_t, 2>> rgb_and_label(result.planes.size() + 1);
-  rgb_and_label[0] = {(128u << 16) | (128u << 8) | 128u, 0u};
+  rgb_and_label[0] = {hope::packRgb({128, 128, 128}), 0u};
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     const int id = result.planes[k].id;
-    const hope::Rgb color = hope::planeColor(id);
-    rgb_and_label[k + 1] = {
-        (std::uint32_t(color.r) << 16) | (std::uint32_t(color.g) << 8) | color.b,
-        static_cast<std::uint32_t>(id + 1)};
+    rgb_and_label[k + 1] = {hope::packRgb(hope::planeColor(id)),
+                            static_cast<std::uint32_t>(id + 1)};
   }
   // Aligned points are relative to the local origin (zero unless the sensor is far out).
   const Eigen::Vector3f origin = result.local_origin.cast<float>();
   const std::size_t labelled = std::min(aligned.size(), result.point_labels.size());
-  for (std::size_t i = 0; i < aligned.size(); ++i) {
-    std::uint8_t* p = out.data.data() + i * out.point_step;
-    const Eigen::Vector3f q = aligned[i] + origin;
-    std::memcpy(p, q.data(), 12);
-    const int index = i < labelled ? result.point_labels[i] : -1;
-    std::memcpy(p + 12, rgb_and_label[static_cast<std::size_t>(index + 1)].data(), 8);
+  // Plain pointers in locals: stores through a byte pointer may alias anything, so through the
+  // containers the compiler would reload every pointer and size after each point.
+  const std::uint8_t* source = aligned.data;
+  const std::size_t source_stride = aligned.stride;
+  const std::int32_t* labels = result.point_labels.data();
+  const std::array<std::uint32_t, 2>* table = rgb_and_label.data();
+  std::uint8_t* target = out.data.data();
+  const float ox = origin.x(), oy = origin.y(), oz = origin.z();
+  const std::size_t num_points = aligned.size();
+  for (std::size_t i = 0; i < num_points; ++i) {
+    float xyz[3];
+    std::memcpy(xyz, source + i * source_stride, sizeof(xyz));
+    xyz[0] += ox, xyz[1] += oy, xyz[2] += oz;
+    std::uint8_t* record = target + 20 * i;
+    std::memcpy(record, xyz, sizeof(xyz));
+    const int index = i < labelled ? labels[i] : -1;
+    std::memcpy(record + 12, table[static_cast<std::size_t>(index + 1)].data(), 8);
   }
   return out;
 }

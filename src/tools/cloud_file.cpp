@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "hope/plane_colors.h"
+
 namespace hope {
 namespace tools {
 
@@ -413,10 +415,6 @@ Roles rolesOf(const std::string& path, const CloudFileLayout& layout) {
   return r;
 }
 
-std::uint32_t rgbOf(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-  return (std::uint32_t{r} << 16) | (std::uint32_t{g} << 8) | b;
-}
-
 // Decompresses one LZF block (PCD's binary_compressed) into out[0, out_size); returns the bytes
 // written, or 0 when the block is malformed or does not fit. The format is a sequence of
 // tokens: a control byte below 32 starts a run of (control + 1) literal bytes; any other is a
@@ -479,7 +477,7 @@ void fromPointMajor(const std::uint8_t* data, std::size_t first, std::size_t cou
       cloud.rgb[first + k] = packedColor(point + r.packed->offset, *r.packed) & 0xFFFFFF;
     if (r.red) {
       cloud.rgb[first + k] =
-          rgbOf(point[r.red->offset], point[r.green->offset], point[r.blue->offset]);
+          packRgb({point[r.red->offset], point[r.green->offset], point[r.blue->offset]});
     }
   }
 }
@@ -542,12 +540,7 @@ PointsView InputCloud::view() const {
   v.data = points.empty() ? nullptr : reinterpret_cast<const std::uint8_t*>(points.data());
   v.count = points.size();
   v.stride = sizeof(Eigen::Vector3f);
-  v.width = width;
-  v.height = height;
-  if (std::uint64_t(width) * height != points.size()) {  // not an image: one row
-    v.width = static_cast<std::uint32_t>(points.size());
-    v.height = 1;
-  }
+  v.setShape(width, height);
   return v;
 }
 
@@ -612,7 +605,7 @@ InputCloud readCloudFile(const std::string& path, const CloudFileLayout& layout)
           }
         }
       }
-      if (r.red) cloud.rgb[i] = rgbOf(channel[0], channel[1], channel[2]);
+      if (r.red) cloud.rgb[i] = packRgb({channel[0], channel[1], channel[2]});
     }
     return cloud;
   }

@@ -9,6 +9,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "hope/plane_colors.h"
 #include "hope/tools/cloud_file.h"
 
 namespace hope {
@@ -59,7 +60,7 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
   InputCloud input = fromImageCloud(colored);
   input.rgb.reserve(colored.size());
   for (const pcl::PointXYZRGB& p : colored) {
-    input.rgb.push_back((std::uint32_t{p.r} << 16) | (std::uint32_t{p.g} << 8) | p.b);
+    input.rgb.push_back(packRgb({p.r, p.g, p.b}));
   }
   return input;
 }

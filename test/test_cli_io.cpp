@@ -232,6 +232,28 @@ TEST_F(Cli, UnorganizedPcdGivesATopDownOverlayAndOneLabelPerPoint) {
   EXPECT_FALSE(cv::imread(dir_ + "/o.png").empty());
 }
 
+// OpenCV's image codecs (and GDAL with them) are loaded only by a run that reads or writes an
+// image: the dynamic loader's own log (LD_DEBUG=files) lists every library a run opens.
+TEST_F(Cli, ImageCodecsAreLoadedOnlyForImages) {
+  LabeledCloud cloud;
+  addSheet(cloud, 0, 0, 1, 1, 0.0, 0.01, 0);
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/in.pcd", cloud.cloud), 0);
+  auto opened = [&](const std::string& args) {
+    const CliRun r = runTool("LD_DEBUG=files " HOPE_EXTRACT_BIN, args + " --quiet");
+    EXPECT_EQ(r.exit_code, 0) << r.output.substr(0, 2000);
+    return r.output;
+  };
+  const std::string cloud_only = opened("--input " + dir_ + "/in.pcd");
+  EXPECT_NE(cloud_only.find("libhope_core.so"), std::string::npos);  // the log is there
+  EXPECT_EQ(cloud_only.find("libopencv_imgcodecs"), std::string::npos);
+  EXPECT_EQ(cloud_only.find("libhope_image_codecs"), std::string::npos);
+  const std::string with_overlay =
+      opened("--input " + dir_ + "/in.pcd --overlay " + dir_ + "/o.png");
+  EXPECT_NE(with_overlay.find("libhope_image_codecs.so"), std::string::npos);
+  EXPECT_NE(with_overlay.find("libopencv_imgcodecs"), std::string::npos);
+  EXPECT_FALSE(cv::imread(dir_ + "/o.png").empty());
+}
+
 TEST_F(Cli, ErrorsGoToStderrWithTheirExitCode) {
   CliRun r = run("");
   EXPECT_EQ(r.exit_code, 2);

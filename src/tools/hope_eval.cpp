@@ -14,8 +14,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "hope/evaluation/baselines.h"
 #include "hope/evaluation/lidar_metrics.h"
 #include "hope/evaluation/segmentation_metrics.h"

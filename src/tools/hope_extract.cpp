@@ -16,8 +16,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope/tools/cli.h"

@@ -12,7 +12,6 @@
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/scene.h"

@@ -1,21 +1,74 @@
 #include "hope/tools/io.h"
 
+#include <dlfcn.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the IMREAD_ flags only: the codecs are in the module
 
 #include "hope/plane_colors.h"
 #include "hope/tools/cloud_file.h"
+#include "hope/tools/image_codecs.h"
 
 namespace hope {
 namespace tools {
 
 namespace {
+
+struct ImageModule {
+  decltype(&hopeReadImage) read = nullptr;
+  decltype(&hopeWriteImage) write = nullptr;
+};
+
+// The directory of the running program ("" when /proc does not say).
+std::string programDirectory() {
+  char path[PATH_MAX];
+  const ssize_t length = readlink("/proc/self/exe", path, sizeof(path) - 1);
+  if (length <= 0) return "";
+  const std::string program(path, static_cast<std::size_t>(length));
+  const std::size_t slash = program.rfind('/');
+  return slash == std::string::npos ? "" : program.substr(0, slash);
+}
+
+// The image module, loaded on first use (image_codecs.h says where it is looked for). A failed
+// load throws and is tried again on the next call.
+const ImageModule& imageModule() {
+  static const ImageModule module = [] {
+    std::vector<std::string> candidates;
+    const std::string directory = programDirectory();
+    if (!directory.empty()) {
+      candidates.push_back(directory + "/../" + kImageModule);  // lib/hope/hope_extract
+      candidates.push_back(directory + "/" + kImageModule);
+    }
+    candidates.emplace_back(kImageModule);  // LD_LIBRARY_PATH, the program's RUNPATH, system
+    std::string reasons;
+    for (const std::string& candidate : candidates) {
+      void* handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (!handle) {
+        reasons += std::string("\n  ") + dlerror();
+        continue;
+      }
+      ImageModule found;
+      found.read = reinterpret_cast<decltype(found.read)>(dlsym(handle, "hopeReadImage"));
+      found.write = reinterpret_cast<decltype(found.write)>(dlsym(handle, "hopeWriteImage"));
+      if (found.read && found.write) return found;
+      reasons += "\n  " + candidate + ": not hope's image module (no hopeReadImage/hopeWriteImage)";
+      dlclose(handle);
+    }
+    throw std::runtime_error(std::string("reading and writing images needs hope's image module ") +
+                             kImageModule + ", which could not be loaded:" + reasons +
+                             "\nRebuild or reinstall hope, or add its lib directory to "
+                             "LD_LIBRARY_PATH.");
+  }();
+  return module;
+}
 
 // An image's points (depth_image.h) as the tools hold a cloud, organized shape kept.
 template <class PointT>
@@ -49,12 +102,14 @@ InputCloud loadCloud(const std::string& path, std::uint64_t max_points) {
 InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
                      const PinholeIntrinsics& intrinsics, double depth_scale) {
   requireRegularFile(depth_path);
-  const cv::Mat depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
-  if (depth.empty()) throw std::runtime_error("'" + depth_path + "' is not a readable image");
+  cv::Mat depth;
+  if (!readImageFile(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE, depth))
+    throw std::runtime_error("'" + depth_path + "' is not a readable image");
   if (rgb_path.empty()) return fromImageCloud(depthToCloud(depth, intrinsics, depth_scale));
   requireRegularFile(rgb_path);
-  const cv::Mat rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
-  if (rgb.empty()) throw std::runtime_error("'" + rgb_path + "' is not a readable image");
+  cv::Mat rgb;
+  if (!readImageFile(rgb_path, cv::IMREAD_COLOR, rgb))
+    throw std::runtime_error("'" + rgb_path + "' is not a readable image");
   const pcl::PointCloud<pcl::PointXYZRGB> colored =
       depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
   InputCloud input = fromImageCloud(colored);
@@ -94,12 +149,15 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
 
 void writeImage(const OutputFile& file, const cv::Mat& image) {
   errno = 0;
-  bool written = false;
-  try {
-    written = cv::imwrite(file.writePath(), image);
-  } catch (const cv::Exception&) {  // e.g. an extension OpenCV has no encoder for
-  }
-  if (!written) throwCannotWrite(file.path());
+  if (!writeImageFile(file.writePath(), image)) throwCannotWrite(file.path());
+}
+
+bool readImageFile(const std::string& path, int flags, cv::Mat& image) {
+  return imageModule().read(path.c_str(), flags, &image);
+}
+
+bool writeImageFile(const std::string& path, const cv::Mat& image) {
+  return imageModule().write(path.c_str(), &image);
 }
 
 std::vector<double> parseNumbers(const std::string& text, std::size_t count, const char* what) {

@@ -31,6 +31,7 @@ cmake --install "$build" >"$build/check_install.log" 2>&1 || {
 }
 for f in include/hope/extractor.h include/hope/plane_colors.h include/hope/synthetic/scene.h \
   include/hope_ros/cloud_conversion.h lib/libhope_core.so lib/libhope_synthetic.so \
+  lib/libhope_image_codecs.so lib/hope/hope_synth \
   lib/libhope_ros.so lib/libhope_nodelet.so lib/hope/hope_extract lib/hope/hope_node \
   share/hope/package.xml share/hope/nodelet_plugins.xml share/hope/msg/Plane.msg \
   share/hope/config/hope.yaml share/hope/rviz/hope.rviz share/hope/cmake/hopeConfig.cmake \
@@ -67,6 +68,35 @@ if grep -q "warning:" "$work/build.log"; then
   fail "warnings in the downstream build (hope's headers must compile cleanly with -Wall -Wextra)"
 fi
 "$work/build/devel/lib/hope_downstream/hope_downstream" "$prefix" || fail "the downstream program"
+
+echo "== the tools from the install space: images through the image module"
+tools="$prefix/lib/hope"
+"$tools/hope_synth" --out "$work/demo" >"$work/synth.log" 2>&1 || {
+  cat "$work/synth.log"
+  fail "hope_synth from the install space"
+}
+"$tools/hope_extract" --depth "$work/demo/depth.png" --rgb "$work/demo/rgb.png" \
+  --pose "$(cat "$work/demo/pose.txt")" --overlay "$work/overlay.png" >"$work/extract.log" 2>&1 || {
+  cat "$work/extract.log"
+  fail "hope_extract --depth from the install space"
+}
+[ -s "$work/overlay.png" ] || fail "hope_extract wrote no overlay"
+# Without the module beside it (a program copied elsewhere, with only the core library): a
+# clear error naming the module, exit code 1, no crash.
+mkdir -p "$work/moved/lib/hope"
+cp "$tools/hope_extract" "$work/moved/lib/hope/"
+cp "$prefix/lib/libhope_core.so" "$work/moved/lib/"
+set +e
+LD_LIBRARY_PATH="$work/moved/lib" "$work/moved/lib/hope/hope_extract" \
+  --depth "$work/demo/depth.png" >"$work/moved.log" 2>&1
+code=$?
+set -e
+[ "$code" = 1 ] || { cat "$work/moved.log"; fail "without the image module: exit code $code, not 1"; }
+grep -q "needs hope's image module libhope_image_codecs.so" "$work/moved.log" || {
+  cat "$work/moved.log"
+  fail "without the image module: the error does not name it"
+}
+echo "ok hope_synth, hope_extract --depth --overlay; a clear error without the module"
 
 echo "== Python from the install space"
 /usr/bin/python3 - "$prefix" <<'PYTHON' || fail "python"

@@ -298,7 +298,7 @@ BENCHMARK(BM_PclPipeline)
 // The nodelet's work per frame on the TUM frame, beside the core's own time: the PointCloud2
 // read in place, extraction, tracking, and building the three output messages (PlaneArray,
 // labeled cloud, markers). Within a nodelet manager publishing passes pointers, so this is
-// everything the nodelet adds. Target: at most 1.5 × the core.
+// everything the nodelet adds. Target: at most 1.2 × the core.
 void BM_NodeletFrame(benchmark::State& state) {
   const Input* input = inputOrSkip(state);
   if (!input) return;
@@ -308,6 +308,7 @@ void BM_NodeletFrame(benchmark::State& state) {
   const sensor_msgs::PointCloud2 msg = hope_ros::cloudMessage(*in.cloud, camera);
   hope::Extractor extractor;
   hope::PlaneTracker tracker;
+  sensor_msgs::PointCloud2 labeled;
   double core_ms = 0;
   for (auto _ : state) {
     hope::PointsView view;
@@ -319,7 +320,10 @@ void BM_NodeletFrame(benchmark::State& state) {
     tracker.update(r.planes, 0.0);
     std_msgs::Header header = msg.header;
     benchmark::DoNotOptimize(hope_ros::toMessage(r, header));
-    benchmark::DoNotOptimize(hope_ros::labeledCloud(extractor.alignedPoints(), r, view, header));
+    // As the nodelet does: the labeled cloud published last is refilled once no subscriber
+    // holds it (always here).
+    hope_ros::fillLabeledCloud(extractor.alignedPoints(), r, view, header, labeled);
+    benchmark::DoNotOptimize(labeled.data.data());
     benchmark::DoNotOptimize(hope_ros::planeMarkers(r, header));
     core_ms += r.timings.total_ms;
   }

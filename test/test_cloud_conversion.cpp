@@ -153,5 +153,38 @@ TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
   EXPECT_NE(rgbOf(7), rgbOf(2));  // the colours tell the planes apart
 }
 
+// The nodelet refills the message it published last: whatever that message held (another
+// frame's points, another size, stale fields), the result is the fresh message, byte for byte.
+TEST(CloudConversion, RefilledLabeledCloudEqualsAFreshOne) {
+  const std::vector<Eigen::Vector3f> aligned = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5f}};
+  hope::Result result;
+  result.planes.resize(1);
+  result.planes[0].id = 3;
+  result.point_labels = {0, -1, 0, -1};
+  hope::PointsView view;
+  view.count = aligned.size();
+  view.width = 2;
+  view.height = 2;
+  std_msgs::Header header;
+  header.frame_id = "hope_gravity";
+  header.stamp = ros::Time(12, 34);
+  const sensor_msgs::PointCloud2 fresh = hope_ros::labeledCloud(aligned, result, view, header);
+  for (const std::size_t stale_bytes : {std::size_t{80}, std::size_t{400}, std::size_t{0}}) {
+    sensor_msgs::PointCloud2 reused;
+    reused.data.assign(stale_bytes, 0xAB);  // the same size as the new cloud's (80) or not
+    reused.fields.resize(7);
+    reused.width = 99;
+    reused.header.frame_id = "stale";
+    hope_ros::fillLabeledCloud(aligned, result, view, header, reused);
+    EXPECT_EQ(reused.data, fresh.data) << stale_bytes << " stale bytes";
+    EXPECT_EQ(reused.fields.size(), 5u);
+    EXPECT_EQ(reused.width, 2u);
+    EXPECT_EQ(reused.height, 2u);
+    EXPECT_EQ(reused.row_step, fresh.row_step);
+    EXPECT_EQ(reused.header.frame_id, "hope_gravity");
+    EXPECT_EQ(reused.header.stamp, header.stamp);
+  }
+}
+
 }  // namespace test
 }  // namespace hope

@@ -32,6 +32,12 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
 sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
                                       const hope::Result& result, const hope::PointsView& input,
                                       const std_msgs::Header& header);
+// The same written into `out`, whose data buffer is reused when it already has the size: a
+// node that keeps the message it published last, once no subscriber holds it any more, saves
+// the allocation and the clearing of ~6 MB per VGA frame.
+void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& result,
+                      const hope::PointsView& input, const std_msgs::Header& header,
+                      sensor_msgs::PointCloud2& out);
 
 // For RViz: a DELETEALL first (no stale markers), then per plane its hull filled and outlined
 // in its id's Pascal VOC colour and a text "id: height".

@@ -156,7 +156,15 @@ sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
                                       const hope::Result& result, const hope::PointsView& input,
                                       const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 out;
+  fillLabeledCloud(aligned, result, input, header, out);
+  return out;
+}
+
+void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& result,
+                      const hope::PointsView& input, const std_msgs::Header& header,
+                      sensor_msgs::PointCloud2& out) {
   out.header = header;
+  out.fields.clear();
   out.width = input.width;
   out.height = input.height;
   const char* names[5] = {"x", "y", "z", "rgb", "label"};
@@ -171,6 +179,7 @@ sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
   out.point_step = 20;
   out.row_step = out.point_step * out.width;
   out.is_dense = false;
+  // Every byte is written below: a buffer of the right size is reused as it is.
   out.data.resize(static_cast<std::size_t>(out.point_step) * aligned.size());
   // The colour and label of each plane index once, not per point: entry 0 is "on no plane"
   // (grey, label 0), entry k + 1 plane k (its id's colour, label id + 1).
@@ -202,7 +211,6 @@ sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
     const int index = i < labelled ? labels[i] : -1;
     std::memcpy(record + 12, table[static_cast<std::size_t>(index + 1)].data(), 8);
   }
-  return out;
 }
 
 visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,

@@ -114,6 +114,7 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<hope::Extractor> extractor_;
   std::unique_ptr<hope::PlaneTracker> tracker_;
   std::deque<Eigen::Vector3d> recent_gravity_;
+  boost::shared_ptr<sensor_msgs::PointCloud2> labeled_cloud_;  // the last one published
 
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
@@ -470,8 +471,13 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     planes_pub_.publish(boost::make_shared<hope::PlaneArray>(toMessage(result, header)));
   }
   if (publish_cloud) {
-    cloud_pub_.publish(boost::make_shared<sensor_msgs::PointCloud2>(
-        labeledCloud(extractor_->alignedPoints(), result, view, header)));
+    // The message published last is refilled once nobody holds it (a subscriber's callback,
+    // a queue waiting to serialize it): no 6 MB allocation and clearing per VGA frame.
+    if (!labeled_cloud_ || labeled_cloud_.use_count() > 1) {
+      labeled_cloud_ = boost::make_shared<sensor_msgs::PointCloud2>();
+    }
+    fillLabeledCloud(extractor_->alignedPoints(), result, view, header, *labeled_cloud_);
+    cloud_pub_.publish(labeled_cloud_);
   }
   if (markers_pub_.getNumSubscribers() > 0) {
     markers_pub_.publish(

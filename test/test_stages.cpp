@@ -486,7 +486,11 @@ TEST(PlaneDescription, ConvexHullEqualsAPlainMonotoneChainOverEveryPoint) {
   };
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  for (int shape = 0; shape < 4; ++shape) {
+  // Shapes: a disk (0), a grid with whole rows and columns on the rim (1), a thin diagonal
+  // strip (2), a ring (3), a filled rectangle (4, whose corners are the octagon's: the
+  // octagon's inner box must shrink), and a 2 x 1 mm rectangle 500 km out (5, UTM-scale
+  // coordinates: the edge tests round at 1e-10 m).
+  for (int shape = 0; shape < 6; ++shape) {
     for (std::size_t n : {70u, 500u, 20000u}) {
       std::vector<Eigen::Vector2d> pts;
       while (pts.size() < n) {
@@ -496,6 +500,8 @@ TEST(PlaneDescription, ConvexHullEqualsAPlainMonotoneChainOverEveryPoint) {
         if (shape == 1) x = std::round(x * 8) / 8, y = std::round(y * 8) / 8;
         if (shape == 2) y = x + 0.01 * y;
         if (shape == 3 && (r < 0.9 || r > 1.0)) continue;
+        if (shape == 4) x *= 2;
+        if (shape == 5) x = 500000.0 + 0.001 * x, y = -4000000.0 + 0.0005 * y;
         pts.emplace_back(x, y);
       }
       const std::vector<Eigen::Vector2d> expected = plain(pts);

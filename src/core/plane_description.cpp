@@ -90,16 +90,17 @@ namespace {
 // One pass drops those points, so that the O(n log n) sort sees only the few near the rim; the
 // hull is the same, vertex for vertex. Returns the number of points kept at the front.
 std::size_t dropPointsInsideExtremeOctagon(Eigen::Vector2d* points, std::size_t n) {
-  // Directions at -90°, -45°, 0°, 45°, 90°, 135°, 180°, 225°: their extreme points follow
-  // one another counter-clockwise around the hull.
-  const double dir[8][2] = {{0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}};
+  // Directions at -90°, -45°, 0°, 45°, 90°, 135°, 180°, 225° (their extreme points follow one
+  // another counter-clockwise around the hull), scored without multiplications: -y, x - y, x,
+  // x + y, y, y - x, -x, -x - y.
   std::size_t extreme[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   double best[8];
   for (int k = 0; k < 8; ++k) best[k] = -HUGE_VAL;
   for (std::size_t i = 0; i < n; ++i) {
+    const double x = points[i].x(), y = points[i].y();
+    const double score[8] = {-y, x - y, x, x + y, y, y - x, -x, -x - y};
     for (int k = 0; k < 8; ++k) {
-      const double s = dir[k][0] * points[i].x() + dir[k][1] * points[i].y();
-      if (s > best[k]) best[k] = s, extreme[k] = i;
+      if (score[k] > best[k]) best[k] = score[k], extreme[k] = i;
     }
   }
   Eigen::Vector2d octagon[8];
@@ -110,13 +111,43 @@ std::size_t dropPointsInsideExtremeOctagon(Eigen::Vector2d* points, std::size_t 
   }
   while (corners > 1 && octagon[corners - 1] == octagon[0]) --corners;
   if (corners < 3) return n;
+  auto strictlyInside = [&](const Eigen::Vector2d& p, double margin) {
+    for (std::size_t k = 0; k < corners; ++k) {
+      if (!(cross(octagon[k], octagon[(k + 1) % corners], p) > margin)) return false;
+    }
+    return true;
+  };
+  // Most points lie well inside: a box inside the octagon settles them with four comparisons.
+  // The box spanned by the innermost coordinates of the extreme points on each side touches the
+  // octagon (a rectangle's corners are its vertices), so it is shrunk about its centre until
+  // its corners lie inside by a margin far above the rounding of the edge tests: a point inside
+  // it then passes every edge test too (the tests are linear in the point), and the points
+  // kept are the same as with the edge tests alone.
+  auto coordinate = [&](int k, int axis) { return points[extreme[k]](axis); };
+  const double left = std::max({coordinate(5, 0), coordinate(6, 0), coordinate(7, 0)});
+  const double right = std::min({coordinate(1, 0), coordinate(2, 0), coordinate(3, 0)});
+  const double bottom = std::max({coordinate(7, 1), coordinate(0, 1), coordinate(1, 1)});
+  const double top = std::min({coordinate(3, 1), coordinate(4, 1), coordinate(5, 1)});
+  const double extent = (best[2] + best[6]) + (best[4] + best[0]);  // width + height
+  const double margin = 1e-6 * extent * extent;
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  bool use_box = false;
+  for (const double shrink : {0.98, 0.9, 0.7}) {
+    if (!(left < right && bottom < top)) break;
+    const double cx = 0.5 * (left + right), cy = 0.5 * (bottom + top);
+    const double hx = 0.5 * shrink * (right - left), hy = 0.5 * shrink * (top - bottom);
+    x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
+    use_box = true;
+    for (int corner = 0; corner < 4 && use_box; ++corner) {
+      use_box = strictlyInside(Eigen::Vector2d(corner & 1 ? x1 : x0, corner & 2 ? y1 : y0), margin);
+    }
+    if (use_box) break;
+  }
   std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    bool inside = true;
-    for (std::size_t k = 0; k < corners && inside; ++k) {
-      inside = cross(octagon[k], octagon[(k + 1) % corners], points[i]) > 0;
-    }
-    if (!inside) points[kept++] = points[i];
+    const Eigen::Vector2d p = points[i];
+    if (use_box && p.x() > x0 && p.x() < x1 && p.y() > y0 && p.y() < y1) continue;
+    if (!strictlyInside(p, 0.0)) points[kept++] = p;
   }
   return kept;
 }

@@ -410,12 +410,18 @@ std::size_t completeSurface(const VoxelGrid& grid, const std::vector<Eigen::Vect
   voxels.erase(kept, voxels.end());
 
   // Breadth-first over voxels: `voxels` is the queue; what joins is appended and expanded.
+  // Whether a voxel may join depends on the voxel alone, so the first look at a column takes
+  // every voxel of it that ever will: each column is read once (marked by its first voxel),
+  // not once from each of its up to nine neighbours, and the voxels join in the same order.
+  std::vector<std::uint8_t> column_seen(grid.numVoxels(), 0);
   for (std::size_t next = 0; next < voxels.size(); ++next) {
     const std::uint32_t v = voxels[next];
     const int cx = grid.cellX(v), cy = grid.cellY(v);
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const auto range = grid.columnVoxels(cx + dx, cy + dy);
+        if (range.first == range.second || column_seen[range.first]) continue;
+        column_seen[range.first] = 1;
         for (std::uint32_t u = range.first; u < range.second; ++u) {
           if (voxel_owner[u] != -1 || offset(u) > tolerance) continue;
           if (std::fabs(normals[u].z()) < kMinCompletionNormalZ) continue;  // false for NaN

@@ -1,5 +1,5 @@
 // hope's image module (libhope_image_codecs.so): reading and writing image files through
-// OpenCV's imgcodecs, loaded by the tools only when an image is read or written (io.cpp).
+// OpenCV's imgcodecs, loaded by the tools only when an image is read or written (image_module.cpp).
 //
 // Why a module of its own: on Debian, OpenCV's imgcodecs pulls in GDAL and through it some 130
 // libraries, some initialised at load; linked into hope_extract they cost every run ~0.1 s and

@@ -1,8 +1,8 @@
 // Image files for the command-line tools, through hope's image module (image_codecs.cpp),
-// which is loaded on the first call: a run that reads and writes no image never loads OpenCV's
-// imgcodecs (and GDAL with it). The module is looked for beside the program's directory (the
-// package's lib/ for lib/hope/hope_extract, in the devel and the install space alike), then on
-// the library path.
+// which image_module.cpp loads on the first call: a run that reads and writes no image never
+// loads OpenCV's imgcodecs (and GDAL with it). The module is looked for beside the program's
+// directory (the package's lib/ for lib/hope/hope_extract, in the devel and the install space
+// alike), then on the library path.
 #pragma once
 
 #include <string>

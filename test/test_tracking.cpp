@@ -237,6 +237,48 @@ TEST(PlaneTracker, ImprovedModeRejectsAHeightJumpThatPaperModeAccepts) {
   }
 }
 
+TEST(PlaneTracker, PairsPlanesThatMovedApartAsFarAsTheCostAllowsAndNoFurther) {
+  // A 20 cm plane that jumps sideways clear of its old box (overlap and IoU 0) costs
+  // 1 + 0.8·max_match_cost + (gap / xy_scale)², a pair only below max_match_cost, and never
+  // beyond the max_xy_gap gate. The search near each track must reach every such pair.
+  struct Case {
+    double xy_scale, gap;
+    bool same_id;
+  };
+  const Case cases[] = {
+      {0.10, 0.080, true},   // 8.2 + 0.64 = 8.84 < 9
+      {0.10, 0.095, false},  // 8.2 + 0.9025 > 9
+      {0.40, 0.340, true},   // 8.2 + 0.7225 < 9, inside the 0.4 m gate
+      {0.40, 0.365, false},  // 8.2 + 0.8327 > 9
+      {1.00, 0.390, true},   // cost 8.35: far below the limit, inside the 0.4 m gate
+      {1.00, 0.410, false},  // cost 8.37, but beyond the 0.4 m gate
+  };
+  // The scene is placed at 100 offsets 1 cm apart, so that wherever the search's cells are,
+  // some placements put a cell border inside the gap; 200 planes 2 m higher fill the search's
+  // index, as a real scene would (with one plane it is cheaper to look at all).
+  std::vector<HorizontalPlane> shelves;
+  for (int i = 0; i < 200; ++i) {
+    shelves.push_back(makePlane(2.75, 0.3 * (i % 20), 0.3 * (i / 20), 0.3 * (i % 20) + 0.2,
+                                0.3 * (i / 20) + 0.2));
+  }
+  for (const Case& c : cases) {
+    for (int k = 0; k < 100; ++k) {
+      TrackerOptions o = mode(TrackingMode::kImproved);
+      o.xy_scale = c.xy_scale;
+      PlaneTracker tracker(o);
+      const double x = 0.01 * k;
+      std::vector<HorizontalPlane> before = shelves, after = shelves;
+      before.push_back(makePlane(0.75, x, 0, x + 0.2, 0.2));
+      tracker.update(before, 0);
+      const double x0 = x + 0.2 + c.gap;
+      after.push_back(makePlane(0.75, x0, 0, x0 + 0.2, 0.2));
+      tracker.update(after, 1);
+      EXPECT_EQ(after.back().id == before.back().id, c.same_id)
+          << "xy_scale " << c.xy_scale << ", gap " << c.gap << ", at x " << x;
+    }
+  }
+}
+
 TEST(PlaneTracker, MergeKeepsTheLargerPartsIdAndSplitNamesItsParent) {
   PlaneTracker tracker;
   std::vector<HorizontalPlane> parts = {makePlane(0.75, 0, 0, 0.7, 1),

@@ -84,10 +84,12 @@ double shareInside(const std::array<double, 4>& a, const std::array<double, 4>& 
   return std::min(1.0, intersectionArea(a, b) / boxArea(a));
 }
 
-double boxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
-  const double gx = std::max({a[0] - b[2], b[0] - a[2], 0.0});
-  const double gy = std::max({a[1] - b[3], b[1] - a[3], 0.0});
-  return std::sqrt(gx * gx + gy * gy);
+// The square of the xy gap between two boxes (0 when they touch or overlap): the cost needs
+// only the square, and the gate compares squares.
+double squaredBoxGap(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  const double gx = std::max(std::max(a[0] - b[2], b[0] - a[2]), 0.0);
+  const double gy = std::max(std::max(a[1] - b[3], b[1] - a[3]), 0.0);
+  return gx * gx + gy * gy;
 }
 
 // Parts of one surface (a split, a merge) lie at the same height within noise; a book on a
@@ -174,20 +176,33 @@ double pairingCost(const Footprint& before, const BoxIndex::Box& now_bbox, doubl
                    const TrackerOptions& o) {
   const double dz = std::fabs(now_height - before.height);
   if (dz > o.max_height_change) return kForbidden;
-  const double gap = boxGap(before.bbox, now_bbox);
-  if (gap > o.max_xy_gap) return kForbidden;
+  const double squared_gap = squaredBoxGap(before.bbox, now_bbox);
+  if (squared_gap > o.max_xy_gap * o.max_xy_gap) return kForbidden;
   const double area_before = boxArea(before.bbox), area_now = boxArea(now_bbox);
   const double common = intersectionArea(before.bbox, now_bbox);
   const double overlap = std::min(1.0, common / std::min(area_before, area_now));
   const double iou = common / (area_before + area_now - common);
-  const double height_term = dz / o.height_scale, gap_term = gap / o.xy_scale;
-  return height_term * height_term + gap_term * gap_term + (1.0 - overlap) +
+  const double height_term = dz / o.height_scale;
+  return height_term * height_term + squared_gap / (o.xy_scale * o.xy_scale) + (1.0 - overlap) +
          kIouWeight * o.max_match_cost * (1.0 - iou) - 1e-6 * std::min(before.age, 1000);
 }
 
-// Cells of the gating index: twice the xy gate, so a small box grown by it spans about 2 x 2
-// cells, and four times the height gate, so a query spans one or two cells in height.
-double gateCell(const TrackerOptions& o) { return std::max(2.0 * o.max_xy_gap, 0.2); }
+// How far apart in xy a track and a plane can be and still cost less than `limit`. Boxes a
+// gap apart share nothing (overlap and IoU 0), so such a pair costs at least
+// 1 + kIouWeight·max_match_cost + (gap / xy_scale)², less the age bonus (at most 1e-3): with
+// the defaults no pair more than 9 cm apart is ever made, whatever the 40 cm gate allows, and
+// the search looks that far only. (A little slack keeps rounding from losing a pair on the
+// edge; the exact test is the cost.)
+double pairingReach(const TrackerOptions& o, double limit) {
+  const double spare = limit - 1.0 - kIouWeight * o.max_match_cost + 1e-3;
+  const double reach = spare > 0 ? o.xy_scale * std::sqrt(spare) : 0.0;
+  return std::min(o.max_xy_gap, 1.001 * reach + 1e-9);
+}
+
+// Cells of the gating index: twice the search reach, so a small box grown by it spans about
+// 2 x 2 cells (at least 40 cm: smaller cells cost more probes than they save visits), and four
+// times the height gate, so a query spans one or two cells in height.
+double gateCell(double reach) { return std::max(2.0 * reach, 0.4); }
 double gateHeightCell(const TrackerOptions& o) { return 4.0 * o.max_height_change; }
 
 // The pairs of a track (moved by the scene's motion) and a plane that pass the gates and
@@ -201,9 +216,10 @@ std::vector<CandidatePair> candidatePairs(const std::vector<Track>& tracks,
                                           double limit) {
   std::vector<CandidatePair> pairs;
   pairs.reserve(2 * tracks.size());
+  const double reach = pairingReach(o, limit);
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     const Footprint before = footprintOf(tracks[t].plane, compose(sinceSeen(tracks[t]), motion));
-    index.forEachNear(before.bbox, before.height, o.max_xy_gap, o.max_height_change, [&](int p) {
+    index.forEachNear(before.bbox, before.height, reach, o.max_height_change, [&](int p) {
       const double cost = pairingCost(before, boxes[p], heights[p], o);
       if (cost < limit) pairs.push_back({static_cast<int>(t), p, cost});
     });
@@ -352,7 +368,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     heights_.push_back(p.height);
   }
   BoxIndex& planes_near = planes_index_;
-  planes_near.rebuild(boxes_, heights_, gateCell(o), gateHeightCell(o));
+  planes_near.rebuild(boxes_, heights_, gateCell(pairingReach(o, 2 * unpaired)), gateHeightCell(o));
   SceneMotion motion;
   SparseAssignment assignment = assignWithUnpairedCost(
       candidatePairs(tracks_, boxes_, heights_, planes_near, motion, o, 2 * unpaired), num_tracks,
@@ -408,7 +424,9 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     matched_heights.push_back(before.height);
   }
   BoxIndex& matched_near = matched_index_;
-  if (any_new) matched_near.rebuild(matched_boxes, matched_heights, gateCell(o), gateHeightCell(o));
+  if (any_new) {
+    matched_near.rebuild(matched_boxes, matched_heights, gateCell(0.0), gateHeightCell(o));
+  }
   for (int p = 0; p < num_planes; ++p) {
     if (track_of_plane[p] >= 0) continue;
     startTrack(planes[p], stamp, events);

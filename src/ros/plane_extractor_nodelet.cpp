@@ -88,6 +88,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Subscriber<sensor_msgs::PointCloud2>> tf_cloud_sub_;
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> tf_filter_;
   int tf_queue_ = 5;
+  // Clouds that may wait while one is processed (the subscriber's queue); beyond it the
+  // oldest is dropped and counted. Two ride out one slow frame without adding latency when
+  // hope keeps up.
+  int cloud_queue_ = 2;
   ros::Subscriber tf_watch_sub_;
   std::string broadcast_parent_;  // the frame our reference frame hangs from
   ros::Time last_stamp_;
@@ -141,6 +145,8 @@ void PlaneExtractorNodelet::onInit() {
   }
   pnh.param("tf_queue", tf_queue_, 5);
   tf_queue_ = std::max(1, std::min(tf_queue_, 100));
+  pnh.param("cloud_queue", cloud_queue_, 2);
+  cloud_queue_ = std::max(1, std::min(cloud_queue_, 100));
   pnh.param("lazy", lazy_, true);
   pnh.param("gravity_window", gravity_window_, 10);
   if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "none") {
@@ -225,8 +231,8 @@ void PlaneExtractorNodelet::connectionChanged() {
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   if (wanted) {
     if (source_ == "imu") {
-      sync_cloud_sub_ =
-          std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(pnh, "cloud", 1);
+      sync_cloud_sub_ = std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(
+          pnh, "cloud", cloud_queue_);
       sync_imu_sub_ =
           std::make_unique<message_filters::Subscriber<sensor_msgs::Imu>>(pnh, "imu", 50);
       sync_ = std::make_unique<message_filters::Synchronizer<CloudImuPolicy>>(
@@ -234,8 +240,8 @@ void PlaneExtractorNodelet::connectionChanged() {
       sync_->registerCallback(boost::bind(&PlaneExtractorNodelet::onCloudAndImu, this,
                                           boost::placeholders::_1, boost::placeholders::_2));
     } else if (source_ == "tf") {
-      tf_cloud_sub_ =
-          std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(pnh, "cloud", 1);
+      tf_cloud_sub_ = std::make_unique<message_filters::Subscriber<sensor_msgs::PointCloud2>>(
+          pnh, "cloud", cloud_queue_);
       tf_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>>(
           *tf_cloud_sub_, *tf_buffer_, reference_frame_, tf_queue_, pnh);
       tf_filter_->registerCallback(
@@ -244,7 +250,7 @@ void PlaneExtractorNodelet::connectionChanged() {
           boost::bind(&PlaneExtractorNodelet::onCloudWithoutTransform, this,
                       boost::placeholders::_1, boost::placeholders::_2));
     } else {
-      cloud_sub_ = pnh.subscribe("cloud", 1, &PlaneExtractorNodelet::onCloud, this);
+      cloud_sub_ = pnh.subscribe("cloud", cloud_queue_, &PlaneExtractorNodelet::onCloud, this);
     }
   } else {
     tf_filter_.reset();

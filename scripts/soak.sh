@@ -17,7 +17,7 @@ source "$root/build/devel/setup.bash"
 set -u
 log=$root/build/soak.log
 set +e
-rostest --text "$root/test/ros/soak.test" bag:="$bag" seconds:=$((minutes * 60)) >"$log" 2>&1
+rostest --text "$root/test/ros/soak.test" bag:="$bag" seconds:=$((minutes * 60)) ${SOAK_ARGS:-} >"$log" 2>&1
 status=$?
 set -e
 # rostest --text prints gtest's own verdict (not its "RESULT: SUCCESS" summary).

@@ -89,9 +89,9 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> tf_filter_;
   int tf_queue_ = 5;
   // Clouds that may wait while one is processed (the subscriber's queue); beyond it the
-  // oldest is dropped and counted. Two ride out one slow frame without adding latency when
-  // hope keeps up.
-  int cloud_queue_ = 2;
+  // oldest is dropped and counted. Three ride out a stall of two frames (another process
+  // holding the CPU) and add no latency while hope keeps up.
+  int cloud_queue_ = 3;
   ros::Subscriber tf_watch_sub_;
   std::string broadcast_parent_;  // the frame our reference frame hangs from
   ros::Time last_stamp_;
@@ -145,7 +145,7 @@ void PlaneExtractorNodelet::onInit() {
   }
   pnh.param("tf_queue", tf_queue_, 5);
   tf_queue_ = std::max(1, std::min(tf_queue_, 100));
-  pnh.param("cloud_queue", cloud_queue_, 2);
+  pnh.param("cloud_queue", cloud_queue_, 3);
   cloud_queue_ = std::max(1, std::min(cloud_queue_, 100));
   pnh.param("lazy", lazy_, true);
   pnh.param("gravity_window", gravity_window_, 10);

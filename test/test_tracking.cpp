@@ -246,11 +246,11 @@ TEST(PlaneTracker, PairsPlanesThatMovedApartAsFarAsTheCostAllowsAndNoFurther) {
     bool same_id;
   };
   const Case cases[] = {
-      {0.10, 0.080, true},   // 8.2 + 0.64 = 8.84 < 9
+      {0.10, 0.089, true},   // 8.2 + 0.7921 < 9 (the limit is at a gap of 0.0894)
       {0.10, 0.095, false},  // 8.2 + 0.9025 > 9
-      {0.40, 0.340, true},   // 8.2 + 0.7225 < 9, inside the 0.4 m gate
+      {0.40, 0.357, true},   // 8.2 + 0.7966 < 9 (limit 0.3578), inside the 0.4 m gate
       {0.40, 0.365, false},  // 8.2 + 0.8327 > 9
-      {1.00, 0.390, true},   // cost 8.35: far below the limit, inside the 0.4 m gate
+      {1.00, 0.399, true},   // cost 8.36: far below the limit, inside the 0.4 m gate
       {1.00, 0.410, false},  // cost 8.37, but beyond the 0.4 m gate
   };
   // The scene is placed at 100 offsets 1 cm apart, so that wherever the search's cells are,
@@ -265,6 +265,8 @@ TEST(PlaneTracker, PairsPlanesThatMovedApartAsFarAsTheCostAllowsAndNoFurther) {
     for (int k = 0; k < 100; ++k) {
       TrackerOptions o = mode(TrackingMode::kImproved);
       o.xy_scale = c.xy_scale;
+      o.max_match_cost = 9.0;
+      o.max_xy_gap = 0.4;
       PlaneTracker tracker(o);
       const double x = 0.01 * k;
       std::vector<HorizontalPlane> before = shelves, after = shelves;
@@ -343,6 +345,9 @@ TEST(PlaneTracker, RejectsBadOptions) {
   EXPECT_THROW(PlaneTracker{o}, std::invalid_argument);
   o = TrackerOptions();
   o.height_scale = std::nan("");
+  EXPECT_THROW(PlaneTracker{o}, std::invalid_argument);
+  o = TrackerOptions();
+  o.merge_split_overlap = 0.0;  // every plane at a height would be part of every other
   EXPECT_THROW(PlaneTracker{o}, std::invalid_argument);
   EXPECT_THROW(trackingModeFromString("best"), std::invalid_argument);
   EXPECT_EQ(trackingModeFromString("paper"), TrackingMode::kPaper);

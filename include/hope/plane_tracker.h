@@ -44,7 +44,7 @@ struct TrackerOptions {
   int max_missed_frames = 30;
   // A lost plane whose bounding box lies at least this much (share of its own area) inside a
   // current plane at the same height (within height_scale / 2) was merged into it; a new plane
-  // at the same height lying this much inside a matched plane's box split off it.
+  // at the same height lying this much inside a matched plane's box split off it (0.01–1).
   double merge_split_overlap = 0.5;
 };
 

@@ -6,7 +6,7 @@ namespace hope {
 
 namespace {
 // A box spanning more cells than this is visited by every query instead of being entered in
-// each of its cells: a 20 m floor in 0.8 m cells would otherwise fill 625 of them.
+// each of its cells: a 20 m floor in 0.4 m cells would otherwise fill 2,500 of them.
 constexpr std::int64_t kMaxCellsPerBox = 64;
 // Cell coordinates are kept far inside 64 bits (10^12 cells of 1 cm: 10^7 km).
 constexpr double kMaxCellCoordinate = 1e12;

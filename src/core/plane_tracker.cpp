@@ -56,7 +56,8 @@ void validate(const TrackerOptions& o) {
   require("xy_scale (m)", o.xy_scale, 1e-4, 1000.0);
   require("max_match_cost", o.max_match_cost, 1e-3, 1e6);
   require("max_missed_frames", o.max_missed_frames, 0, 1e6);
-  require("merge_split_overlap", o.merge_split_overlap, 0.0, 1.0);
+  // A share of 0 would make every plane at the same height a part of any other.
+  require("merge_split_overlap", o.merge_split_overlap, 0.01, 1.0);
 }
 
 namespace {

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -49,14 +51,21 @@ class SteadyPlayer {
           if (t.header.stamp == f.cloud.header.stamp) f.transforms.push_back(t);
         }
       }
+      if (f.transforms.empty()) {
+        ROS_WARN("soak player: no /tf in %s at the stamp of a cloud (%.3f): it goes out alone",
+                 bag_path.c_str(), f.cloud.header.stamp.toSec());
+      }
     }
     topic_ = cloud_topic;
   }
   ~SteadyPlayer() { stop(); }
 
-  // Starts publishing at `rate_hz` on a thread of its own.
+  // Starts publishing at `rate_hz` on a thread of its own (once).
   void start(ros::NodeHandle& nh, double rate_hz) {
-    publisher_ = nh.advertise<sensor_msgs::PointCloud2>(topic_, 1);
+    if (thread_.joinable()) throw std::logic_error("SteadyPlayer::start called twice");
+    // A deep queue: a cloud the publisher dropped while the socket was busy would reach hope
+    // as a sequence gap, counted as hope's own drop.
+    publisher_ = nh.advertise<sensor_msgs::PointCloud2>(topic_, 10);
     static_broadcaster_.sendTransform(static_transforms_);
     running_ = true;
     thread_ = std::thread([this, rate_hz] {
@@ -69,7 +78,11 @@ class SteadyPlayer {
         f.cloud.header.stamp = now;
         f.cloud.header.seq = seq;
         publisher_.publish(f.cloud);
-        ++published_;
+        {
+          std::lock_guard<std::mutex> lock(progress_mutex_);
+          ++progress_.published;
+          progress_.last_stamp = now;
+        }
         rate.sleep();
       }
     });
@@ -78,7 +91,15 @@ class SteadyPlayer {
     running_ = false;
     if (thread_.joinable()) thread_.join();
   }
-  std::size_t published() const { return published_; }
+  // How many clouds went out so far and the stamp of the last, read together.
+  struct Progress {
+    std::size_t published = 0;
+    ros::Time last_stamp;
+  };
+  Progress progress() const {
+    std::lock_guard<std::mutex> lock(progress_mutex_);
+    return progress_;
+  }
   std::size_t numFrames() const { return frames_.size(); }
 
  private:
@@ -93,7 +114,8 @@ class SteadyPlayer {
   tf2_ros::TransformBroadcaster broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   std::atomic<bool> running_{false};
-  std::atomic<std::size_t> published_{0};
+  mutable std::mutex progress_mutex_;
+  Progress progress_;
   std::thread thread_;
 };
 

@@ -5,6 +5,9 @@
 #include <map>
 #include <random>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
 #include "helpers.h"
 #include "hope/grid_filter.h"
 #include "hope/horizontal_candidates.h"
@@ -282,6 +285,95 @@ TEST(Normals, IsolatedVoxelsAndLinesHaveNoNormal) {
   std::vector<Eigen::Vector3f> normals;
   estimateNormals(grid, 1.01, normals);
   for (const auto& n : normals) EXPECT_FALSE(n.allFinite());
+}
+
+namespace {
+
+// The covariance of `points` as estimateNormals forms it: moments relative to the first point,
+// in float.
+Eigen::Matrix3f covarianceOf(const std::vector<Eigen::Vector3f>& points) {
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f outer = Eigen::Matrix3f::Zero();
+  for (const Eigen::Vector3f& p : points) {
+    const Eigen::Vector3f d = p - points.front();
+    sum += d;
+    outer += d * d.transpose();
+  }
+  const Eigen::Vector3f mean = sum / static_cast<float>(points.size());
+  return outer / static_cast<float>(points.size()) - mean * mean.transpose();
+}
+
+}  // namespace
+
+TEST(Normals, ClosedFormSolverAgreesWithAnIterativeSolverInDouble) {
+  // Point sets of every shape a neighbourhood takes (flat patches, lines, blobs, slabs between),
+  // rotated at random and far from the origin; the reference is Eigen's iterative (QR) solver
+  // on the same covariance in double.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-4.0, 0.0);
+  int compared_normals = 0, planar = 0, not_planar = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Vector3d spread(std::pow(10.0, exponent(rng)), std::pow(10.0, exponent(rng)),
+                                 std::pow(10.0, exponent(rng)));
+    const Eigen::Matrix3d rotation =
+        Eigen::Quaterniond(Eigen::Vector4d(unit(rng), unit(rng), unit(rng), unit(rng)).normalized())
+            .toRotationMatrix();
+    const Eigen::Vector3d offset(100 * unit(rng), 100 * unit(rng), 10 * unit(rng));
+    std::vector<Eigen::Vector3f> pts;
+    const int count = 3 + trial % 25;
+    for (int k = 0; k < count; ++k) {
+      const Eigen::Vector3d local(spread.x() * unit(rng), spread.y() * unit(rng),
+                                  spread.z() * unit(rng));
+      pts.push_back((rotation * local + offset).cast<float>());
+    }
+    const Eigen::Matrix3f covariance = covarianceOf(pts);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> reference(covariance.cast<double>());
+    const Eigen::Vector3d eigenvalues = reference.eigenvalues();  // ascending
+    const double share = eigenvalues(1) / eigenvalues(2);
+    Eigen::Vector3f normal;
+    const bool found = planeNormal(covariance, normal);
+    if (std::fabs(share - 0.05) < 1e-3) continue;  // at the planarity limit either verdict holds
+    ASSERT_EQ(found, share > 0.05)
+        << "trial " << trial << ", eigenvalues " << eigenvalues.transpose();
+    (found ? planar : not_planar) += 1;
+    // The normal is well defined where the smallest eigenvalue stands apart from the middle one.
+    if (!found || eigenvalues(0) > 0.5 * eigenvalues(1)) continue;
+    ASSERT_NEAR(normal.norm(), 1.0f, 1e-5f);
+    const double angle = std::acos(
+        std::min(1.0, std::fabs(normal.cast<double>().dot(reference.eigenvectors().col(0)))));
+    EXPECT_LT(angle, 1e-3) << "trial " << trial << ", eigenvalues " << eigenvalues.transpose();
+    ++compared_normals;
+  }
+  EXPECT_GT(compared_normals, 2000);
+  EXPECT_GT(planar, 3000);
+  EXPECT_GT(not_planar, 3000);
+}
+
+TEST(Normals, ClosedFormSolverOnExactAndDegenerateNeighbourhoods) {
+  Eigen::Vector3f normal;
+  // Exactly flat, tilted: the covariance is singular (c0 is 0 or rounds below it).
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.1, 1.0).normalized();
+  const Eigen::Vector3d u = n.unitOrthogonal(), w = n.cross(u);
+  std::vector<Eigen::Vector3f> flat;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 5; ++j) flat.push_back((0.05 * i * u + 0.05 * j * w).cast<float>());
+  }
+  ASSERT_TRUE(planeNormal(covarianceOf(flat), normal));
+  EXPECT_NEAR(std::fabs(normal.cast<double>().dot(n)), 1.0, 1e-6);
+  // On a line, at one point, all zero or NaN: no plane.
+  std::vector<Eigen::Vector3f> line;
+  for (int i = 0; i < 6; ++i) line.push_back((0.05 * i * u).cast<float>());
+  EXPECT_FALSE(planeNormal(covarianceOf(line), normal));
+  EXPECT_FALSE(planeNormal(
+      covarianceOf({Eigen::Vector3f(1, 2, 3), Eigen::Vector3f(1, 2, 3), Eigen::Vector3f(1, 2, 3)}),
+      normal));
+  EXPECT_FALSE(planeNormal(Eigen::Matrix3f::Zero(), normal));
+  Eigen::Matrix3f nan = Eigen::Matrix3f::Identity();
+  nan(1, 1) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(planeNormal(nan, normal));
+  // A round blob: every direction is a least-variance one; any unit vector will do.
+  ASSERT_TRUE(planeNormal(Eigen::Matrix3f::Identity(), normal));
+  EXPECT_NEAR(normal.norm(), 1.0f, 1e-5f);
 }
 
 namespace {

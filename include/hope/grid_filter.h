@@ -81,6 +81,8 @@ class VoxelGrid {
   // chunk and the chunks' sums added in chunk order. The chunks do not depend on the number of
   // threads, so neither does the result.
   static constexpr std::size_t kPointsPerChunk = std::size_t{1} << 16;
+  // Columns of up to this many voxels are scanned rather than bisected (firstAtOrAbove).
+  static constexpr std::uint32_t kShortColumn = 12;
 
   std::size_t numVoxels() const { return centroid_.size(); }
   double rXY() const { return r_xy_; }
@@ -91,8 +93,8 @@ class VoxelGrid {
   // Per voxel. Voxels are ordered by grid column (x-major within each row of y) and, inside
   // a column, by z cell, so one column's voxels are contiguous.
   const Eigen::Vector3f& centroid(std::size_t v) const { return centroid_[v]; }
-  int cellX(std::size_t v) const { return static_cast<int>(column_[v] % nx_); }
-  int cellY(std::size_t v) const { return static_cast<int>(column_[v] / nx_); }
+  int cellX(std::size_t v) const { return cell_x_[v]; }
+  int cellY(std::size_t v) const { return cell_y_[v]; }
   int cellZ(std::size_t v) const { return iz_[v]; }
   std::uint64_t column(std::size_t v) const { return column_[v]; }
   std::uint32_t numPointsIn(std::size_t v) const { return count_[v]; }
@@ -114,7 +116,13 @@ class VoxelGrid {
   // The first voxel of `range` (one column's voxels, from columnVoxels) whose z cell is at least
   // `iz`, or range.second: the stages that look a few z cells around a voxel search a tall
   // column (a wall, an object's side at a fine r_z) instead of walking it from the floor.
+  // Most columns hold a few voxels, which a plain scan settles faster than a bisection.
   std::uint32_t firstAtOrAbove(std::pair<std::uint32_t, std::uint32_t> range, int iz) const {
+    if (range.second - range.first <= kShortColumn) {
+      std::uint32_t u = range.first;
+      while (u < range.second && iz_[u] < iz) ++u;
+      return u;
+    }
     return static_cast<std::uint32_t>(
         std::lower_bound(iz_.begin() + range.first, iz_.begin() + range.second, iz) - iz_.begin());
   }
@@ -152,6 +160,9 @@ class VoxelGrid {
   std::vector<std::uint32_t> count_;  // points per voxel
   std::vector<Eigen::Vector3f> centroid_;
   std::vector<std::uint64_t> column_;
+  // column_ split into its x and y cells once, so that the stages' neighbour lookups need no
+  // division.
+  std::vector<std::int32_t> cell_x_, cell_y_;
   std::vector<std::int32_t> iz_;
 
   // Column → voxel range: a dense table when the grid is small enough, a hash map otherwise.

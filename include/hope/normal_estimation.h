@@ -42,6 +42,14 @@ class NormalNeighbourhood {
   int reach_z_ = 1;
 };
 
+// The normal of a neighbourhood from its covariance: the eigenvector of the smallest
+// eigenvalue, when the middle eigenvalue is at least 5 % of the largest (otherwise the
+// neighbours lie on a line or at one point and fix no plane: false). Solved in closed form
+// (Newton's method on the characteristic polynomial, then a cross product of two rows), in
+// double; a round neighbourhood, where that eigenvector is ill-defined, goes to Eigen's solver.
+// The sign is arbitrary.
+bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal);
+
 // Writes one unit normal per voxel, oriented so that n_z >= 0 (the sign of a PCA normal is
 // arbitrary; §2.2 takes |n_z| for the same reason). A voxel with fewer than 3 neighbours
 // (itself included), or whose neighbours lie on a line, gets a NaN normal and can never be a

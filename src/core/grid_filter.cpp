@@ -49,6 +49,8 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   point_voxel_.resize(n);
   centroid_.clear();
   column_.clear();
+  cell_x_.clear();
+  cell_y_.clear();
   iz_.clear();
   count_.clear();
   dense_column_begin_.clear();
@@ -347,8 +349,12 @@ void VoxelGrid::orderVoxels(bool dense_columns, int threads) {
   iz_.resize(num_voxels);
   count_.resize(num_voxels);
   centroid_.resize(num_voxels);
+  cell_x_.resize(num_voxels);
+  cell_y_.resize(num_voxels);
   for (std::size_t v = 0; v < num_voxels; ++v) {
     centroid_[v] = (sums_[v] / static_cast<double>(count_[v])).cast<float>();
+    cell_x_[v] = static_cast<std::int32_t>(column_[v] % nx_);
+    cell_y_[v] = static_cast<std::int32_t>(column_[v] / nx_);
   }
   parallel::forShares(point_voxel_.size(), parallel::resolve(threads), std::size_t{1} << 15,
                       [this](int /*share*/, std::size_t begin, std::size_t end) {

@@ -69,6 +69,25 @@ class InteriorTest {
   std::vector<std::int64_t> above_min_, above_max_, below_min_, below_max_;
 };
 
+// The number of grid columns that `members` occupy. Each column is marked through its first
+// voxel (a column's voxels are contiguous) in a scratch array of the thread's, left clean for
+// the next call: no sort of the members' columns.
+std::size_t distinctColumns(const VoxelGrid& grid, const std::vector<std::uint32_t>& members) {
+  thread_local std::vector<std::uint8_t> column_seen;
+  if (column_seen.size() < grid.numVoxels()) column_seen.resize(grid.numVoxels(), 0);
+  auto firstOfColumn = [&](std::uint32_t v) {
+    return grid.columnVoxels(grid.cellX(v), grid.cellY(v)).first;
+  };
+  std::size_t distinct = 0;
+  for (std::uint32_t v : members) {
+    std::uint8_t& seen = column_seen[firstOfColumn(v)];
+    distinct += seen ? 0 : 1;
+    seen = 1;
+  }
+  for (std::uint32_t v : members) column_seen[firstOfColumn(v)] = 0;
+  return distinct;
+}
+
 }  // namespace
 
 const char* toString(Facing facing) {
@@ -197,11 +216,8 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligne
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-  std::vector<std::uint64_t> columns;
-  columns.reserve(members.size());
   std::size_t count = 0;
   for (std::uint32_t v : members) {
-    columns.push_back(grid.column(v));
     const double weight = static_cast<double>(grid.numPointsIn(v));
     const Eigen::Vector3d d = grid.centroid(v).cast<double>() - ref;
     sum += weight * d;
@@ -228,9 +244,7 @@ HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligne
   }
   plane.tilt = std::acos(std::min(1.0, plane.normal.z()));
 
-  std::sort(columns.begin(), columns.end());
-  const auto distinct = std::unique(columns.begin(), columns.end()) - columns.begin();
-  plane.area = static_cast<double>(distinct) * grid.rXY() * grid.rXY();
+  plane.area = static_cast<double>(distinctColumns(grid, members)) * grid.rXY() * grid.rXY();
 
   if (detail == Detail::kFull) describeInFull(grid, aligned, {&members}, {&plane});
   return plane;

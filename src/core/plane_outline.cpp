@@ -185,10 +185,15 @@ std::vector<std::vector<Eigen::Vector2d>> traceOutline(
       rings.push_back(simplifyRing(ring, tolerance));
     }
   }
-  // Largest parts first, their holes after them.
-  std::stable_sort(rings.begin(), rings.end(),
-                   [](const auto& a, const auto& b) { return signedArea(a) > signedArea(b); });
-  return rings;
+  // Largest parts first, their holes after them: each ring's area computed once, not at every
+  // comparison (a LiDAR's ground has hundreds of holes).
+  std::vector<std::pair<double, std::size_t>> by_area(rings.size());
+  for (std::size_t k = 0; k < rings.size(); ++k) by_area[k] = {signedArea(rings[k]), k};
+  std::stable_sort(by_area.begin(), by_area.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::vector<Eigen::Vector2d>> sorted(rings.size());
+  for (std::size_t k = 0; k < rings.size(); ++k) sorted[k] = std::move(rings[by_area[k].second]);
+  return sorted;
 }
 
 double ringArea(const std::vector<Eigen::Vector3d>& ring) { return signedArea(ring); }

@@ -29,10 +29,12 @@ constexpr int kPowerIterations = 4;
 // A line and a link closer than this angle to it (sin) span no plane.
 constexpr float kMinSpanSine = 0.3f;
 
-struct Link {
-  std::uint32_t voxel = 0;
-  Eigen::Vector3f normal = Eigen::Vector3f::Zero();
-};
+// floor() of a cell coordinate as an integer, without the library call that x86-64's base
+// instruction set needs for std::floor. The walks stay within a few thousand cells of the grid.
+std::int64_t floorToCell(double v) {
+  const auto truncated = static_cast<std::int64_t>(v);
+  return truncated - (static_cast<double>(truncated) > v ? 1 : 0);
+}
 
 }  // namespace
 
@@ -56,13 +58,19 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
     max_y = std::max<std::int64_t>(max_y, grid.cellY(v));
   }
   const double columns = static_cast<double>(max_x + 1) * static_cast<double>(max_y + 1);
-  const std::int64_t block = std::max<std::int64_t>(
-      kBlockColumns, static_cast<std::int64_t>(std::ceil(std::sqrt(columns / kMaxBlocks))));
-  const std::int64_t blocks_x = max_x / block + 1, blocks_y = max_y / block + 1;
+  // A block's side is a power of two, so that the walk finds a column's block by shifts.
+  int block_shift = 0;
+  while ((std::int64_t{1} << block_shift) < kBlockColumns ||
+         static_cast<double>(std::int64_t{1} << block_shift) <
+             std::ceil(std::sqrt(columns / kMaxBlocks))) {
+    ++block_shift;
+  }
+  const std::int64_t block = std::int64_t{1} << block_shift;
+  const std::int64_t blocks_x = (max_x >> block_shift) + 1, blocks_y = (max_y >> block_shift) + 1;
   std::vector<std::uint8_t> block_occupied(static_cast<std::size_t>(blocks_x * blocks_y), 0);
   for (std::size_t v = 0; v < grid.numVoxels(); ++v) {
-    block_occupied[static_cast<std::size_t>((grid.cellY(v) / block) * blocks_x +
-                                            grid.cellX(v) / block)] = 1;
+    block_occupied[static_cast<std::size_t>((grid.cellY(v) >> block_shift) * blocks_x +
+                                            (grid.cellX(v) >> block_shift))] = 1;
   }
   const double block_size = static_cast<double>(block) * r_xy;
 
@@ -84,8 +92,8 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
     double next_x = 0, next_y = 0, t = 0;
     auto enter = [&](double at) {  // (re)starts the traversal at ray parameter `at`
       t = at;
-      x = static_cast<std::int64_t>(std::floor((px + at * dir.x()) / r_xy));
-      y = static_cast<std::int64_t>(std::floor((py + at * dir.y()) / r_xy));
+      x = floorToCell((px + at * dir.x()) / r_xy);
+      y = floorToCell((py + at * dir.y()) / r_xy);
       next_x = crossing(static_cast<double>(dir.x() > 0 ? x + 1 : x) * r_xy, px, dir.x());
       next_y = crossing(static_cast<double>(dir.y() > 0 ? y + 1 : y) * r_xy, py, dir.y());
     };
@@ -106,7 +114,7 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
       advance = true;
       if (t > reach) return false;
       if (x < 0 || y < 0 || x > max_x || y > max_y) return false;  // left the grid
-      const std::int64_t bx = x / block, by = y / block;
+      const std::int64_t bx = x >> block_shift, by = y >> block_shift;
       if (!block_occupied[static_cast<std::size_t>(by * blocks_x + bx)]) {
         // On to the first column beyond this empty block.
         const double exit = std::min(

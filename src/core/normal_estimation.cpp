@@ -72,9 +72,10 @@ bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal) {
   double scale = 0;
   for (int i = 0; i < 9; ++i) scale = std::max(scale, std::fabs(double{covariance(i)}));
   if (!(scale > 0) || !std::isfinite(scale)) return false;
-  const double a00 = covariance(0, 0) / scale, a01 = covariance(0, 1) / scale;
-  const double a02 = covariance(0, 2) / scale, a11 = covariance(1, 1) / scale;
-  const double a12 = covariance(1, 2) / scale, a22 = covariance(2, 2) / scale;
+  const double inverse = 1.0 / scale;
+  const double a00 = covariance(0, 0) * inverse, a01 = covariance(0, 1) * inverse;
+  const double a02 = covariance(0, 2) * inverse, a11 = covariance(1, 1) * inverse;
+  const double a12 = covariance(1, 2) * inverse, a22 = covariance(2, 2) * inverse;
   // det(λI − A) = λ³ − c2·λ² + c1·λ − c0.
   const double c2 = a00 + a11 + a22;
   const double c1 = a00 * a11 + a00 * a22 + a11 * a22 - a01 * a01 - a02 * a02 - a12 * a12;
@@ -104,7 +105,9 @@ bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal) {
     const double slope = (3 * lambda0 - 2 * c2) * lambda0 + c1;
     if (!(slope > 0)) break;
     const double step = -f / slope;
-    if (!(step > 1e-15 * c2)) break;
+    // Convergence is quadratic: a step of 1e-12 leaves λ0 exact to double precision, far
+    // below what turns a float normal.
+    if (!(step > 1e-12 * c2)) break;
     lambda0 += step;
   }
   // λ1 and λ2 from their sum and product (the roots of the cubic divided by λ − λ0); the

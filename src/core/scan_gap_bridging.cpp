@@ -29,13 +29,6 @@ constexpr int kPowerIterations = 4;
 // A line and a link closer than this angle to it (sin) span no plane.
 constexpr float kMinSpanSine = 0.3f;
 
-// floor() of a cell coordinate as an integer, without the library call that x86-64's base
-// instruction set needs for std::floor. The walks stay within a few thousand cells of the grid.
-std::int64_t floorToCell(double v) {
-  const auto truncated = static_cast<std::int64_t>(v);
-  return truncated - (static_cast<double>(truncated) > v ? 1 : 0);
-}
-
 }  // namespace
 
 std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoint,
@@ -92,8 +85,8 @@ std::size_t bridgeScanGaps(const VoxelGrid& grid, const Eigen::Vector3d& viewpoi
     double next_x = 0, next_y = 0, t = 0;
     auto enter = [&](double at) {  // (re)starts the traversal at ray parameter `at`
       t = at;
-      x = floorToCell((px + at * dir.x()) / r_xy);
-      y = floorToCell((py + at * dir.y()) / r_xy);
+      x = static_cast<std::int64_t>(std::floor((px + at * dir.x()) / r_xy));
+      y = static_cast<std::int64_t>(std::floor((py + at * dir.y()) / r_xy));
       next_x = crossing(static_cast<double>(dir.x() > 0 ? x + 1 : x) * r_xy, px, dir.x());
       next_y = crossing(static_cast<double>(dir.y() > 0 ? y + 1 : y) * r_xy, py, dir.y());
     };

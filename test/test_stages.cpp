@@ -44,7 +44,7 @@ TEST(GridFilter, GroupsPointsByAnisotropicVoxelAndRemembersEachPointsVoxel) {
   VoxelGrid grid;
   grid.build(pts, 0.05, 0.02);
   ASSERT_EQ(grid.numVoxels(), 3u);
-  const auto& voxel_of = grid.pointVoxel();
+  const std::vector<std::int32_t> voxel_of = grid.pointVoxel();
   EXPECT_EQ(voxel_of[0], voxel_of[1]);
   EXPECT_NE(voxel_of[0], voxel_of[2]);
   EXPECT_NE(voxel_of[0], voxel_of[3]);
@@ -140,6 +140,10 @@ void expectSameAsReference(const VoxelGrid& grid, const std::vector<Eigen::Vecto
     chunk.first->second += p.cast<double>();
   }
   ASSERT_EQ(grid.numVoxels(), voxels.size());
+  const std::vector<std::int32_t> voxel_of_point = grid.pointVoxel();
+  const VoxelGrid::PointVoxels view = grid.pointVoxels();
+  ASSERT_EQ(view.size(), pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) ASSERT_EQ(view[i], voxel_of_point[i]);
   std::size_t v = 0;
   for (const auto& [key, voxel] : voxels) {
     EXPECT_EQ(grid.column(v), key.first);
@@ -150,7 +154,7 @@ void expectSameAsReference(const VoxelGrid& grid, const std::vector<Eigen::Vecto
     EXPECT_EQ(grid.centroid(v), centroid) << "voxel " << v;  // bit for bit
     ASSERT_EQ(grid.numPointsIn(v), voxel.points.size());
     for (const std::uint32_t i : voxel.points) {
-      ASSERT_EQ(grid.pointVoxel()[i], static_cast<std::int32_t>(v));
+      ASSERT_EQ(voxel_of_point[i], static_cast<std::int32_t>(v));
     }
     const auto range = grid.columnVoxels(grid.cellX(v), grid.cellY(v));
     EXPECT_TRUE(range.first <= v && v < range.second);
@@ -158,7 +162,7 @@ void expectSameAsReference(const VoxelGrid& grid, const std::vector<Eigen::Vecto
   }
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (!pts[i].allFinite()) {
-      ASSERT_EQ(grid.pointVoxel()[i], -1);
+      ASSERT_EQ(voxel_of_point[i], -1);
     }
   }
 }
@@ -606,6 +610,57 @@ TEST(PlaneDescription, ConvexHullEqualsAPlainMonotoneChainOverEveryPoint) {
       }
     }
   }
+}
+
+// The description's hull knows each point's grid cell and drops whole cells inside the polygon
+// of the points extreme in 32 directions. Its hull must be convexHull2D's, vertex for vertex:
+// on a disc of cells, a ring (a hole in the middle), one row of cells, points on a coarse
+// lattice (duplicates, collinear rims, points on cell borders), a plane 500 km out (UTM-scale
+// coordinates), and cells whose points fill only a corner (the extreme points far inside the
+// cells). Each cell's inner point is its points' mean, as the description gives.
+TEST(PlaneDescription, CellHullEqualsTheHullOfEveryPoint) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double side = 0.05;
+  int compared = 0;
+  for (int shape = 0; shape < 6; ++shape) {
+    for (int points_per_cell : {1, 3, 40}) {
+      const Eigen::Vector2d offset =
+          shape == 4 ? Eigen::Vector2d(500000.0, -4000000.0) : Eigen::Vector2d(-1.3, 0.7);
+      CellPoints cells;
+      cells.side = side;
+      for (int iy = -20; iy <= 20; ++iy) {
+        for (int ix = -20; ix <= 20; ++ix) {
+          const double r = std::hypot(ix, iy);
+          if (shape != 2 && r > 20) continue;
+          if (shape == 1 && r < 14) continue;
+          if (shape == 2 && iy != 0) continue;
+          const Eigen::Vector2d corner = offset + side * Eigen::Vector2d(ix, iy);
+          const auto cell = static_cast<std::uint32_t>(cells.cell_min.size());
+          Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+          for (int k = 0; k < points_per_cell; ++k) {
+            Eigen::Vector2d u(unit(rng), unit(rng));
+            if (shape == 3) u = (u * 4).array().round() / 4;  // 0, ¼, ½, ¾, 1 of the cell
+            if (shape == 5) u *= 0.2;
+            cells.points.push_back(corner + side * u);
+            cells.cell_of_point.push_back(cell);
+            sum += cells.points.back();
+          }
+          cells.cell_min.push_back(corner);
+          cells.cell_inner.push_back(sum / points_per_cell);
+        }
+      }
+      const std::vector<Eigen::Vector2d> expected = convexHull2D(cells.points);
+      const std::vector<Eigen::Vector2d> hull = convexHullOfCellPoints(cells);
+      ASSERT_GE(expected.size(), 3u);
+      ASSERT_EQ(hull.size(), expected.size()) << "shape " << shape << ", " << points_per_cell;
+      for (std::size_t k = 0; k < expected.size(); ++k) {
+        EXPECT_EQ(hull[k], expected[k]) << "shape " << shape << ", vertex " << k;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 18);
 }
 
 // The description skips voxels the plane surrounds on all four diagonal sides when it looks

@@ -80,7 +80,8 @@ class VoxelGrid {
   // GridHints::threads allows; each voxel's coordinates are summed in input order within a
   // chunk and the chunks' sums added in chunk order. The chunks do not depend on the number of
   // threads, so neither does the result.
-  static constexpr std::size_t kPointsPerChunk = std::size_t{1} << 16;
+  static constexpr int kChunkBits = 16;
+  static constexpr std::size_t kPointsPerChunk = std::size_t{1} << kChunkBits;
   // Columns of up to this many voxels are scanned rather than bisected (firstAtOrAbove).
   static constexpr std::uint32_t kShortColumn = 12;
 
@@ -100,7 +101,36 @@ class VoxelGrid {
   std::uint32_t numPointsIn(std::size_t v) const { return count_[v]; }
   // Per input point: its voxel, or -1 for non-finite points. (No per-voxel point lists are
   // kept: the few stages that need points read this once for all voxels they care about.)
-  const std::vector<std::int32_t>& pointVoxel() const { return point_voxel_; }
+  // The grid keeps each point's voxel as numbered within its chunk of points, and the view
+  // renumbers it on reading: the one stage that reads every point (describeInFull) does so in
+  // its own pass, instead of the grid spending a pass over the points on renumbering them.
+  class PointVoxels {
+   public:
+    std::size_t size() const { return size_; }
+    std::int32_t operator[](std::size_t i) const {
+      const std::int32_t local = local_[i];
+      if (local < 0) return -1;
+      return static_cast<std::int32_t>(
+          entry_voxel_[chunk_begin_[i >> kChunkBits] + static_cast<std::uint32_t>(local)]);
+    }
+
+   private:
+    friend class VoxelGrid;
+    // Raw pointers, not the grid: a loop that stores through an int32_t pointer (labels) would
+    // otherwise reload the grid's vectors after every store.
+    explicit PointVoxels(const VoxelGrid& grid)
+        : local_(grid.point_entry_.data()),
+          entry_voxel_(grid.entry_voxel_.data()),
+          chunk_begin_(grid.chunk_begin_.data()),
+          size_(grid.point_entry_.size()) {}
+    const std::int32_t* local_;
+    const std::uint32_t* entry_voxel_;
+    const std::uint32_t* chunk_begin_;
+    std::size_t size_;
+  };
+  PointVoxels pointVoxels() const { return PointVoxels(*this); }
+  // The same as a vector, written out on each call (one pass over the points).
+  std::vector<std::int32_t> pointVoxel() const;
 
   // The voxels of grid column (cx, cy) as a half-open index range; empty outside the grid.
   // Inline: every stage after the grid asks it for each voxel's neighbours.
@@ -132,14 +162,14 @@ class VoxelGrid {
 
  private:
   std::pair<std::uint32_t, std::uint32_t> sparseColumnVoxels(std::uint64_t column) const;
-  // Pass 2 of build(): each chunk's points assigned to the chunk's own voxels (point_voxel_
+  // Pass 2 of build(): each chunk's points assigned to the chunk's own voxels (point_entry_
   // holds the chunk's voxel numbers), with their keys, point counts and coordinate sums, on up
   // to `threads` threads.
   void assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, std::size_t row_width,
                             int threads);
   // Pass 3: the chunks' voxels sorted by (column, z cell) and a key's entries joined into one
-  // voxel (counts and sums added in chunk order); the points' voxels renumbered with them.
-  void orderVoxels(bool dense_columns, int threads);
+  // voxel (counts and sums added in chunk order); entry_voxel_ maps each chunk's voxels to them.
+  void orderVoxels(bool dense_columns);
   void sortEntriesByKey();  // into sorted_
 
   double r_xy_ = 0, r_z_ = 0;
@@ -156,7 +186,9 @@ class VoxelGrid {
   std::vector<std::uint32_t> counts_, by_digit_;  // radix sort: buckets, the other buffer
   std::vector<Eigen::Vector3d> sums_;             // per voxel: coordinate sums
 
-  std::vector<std::int32_t> point_voxel_;
+  // Per point: its voxel's number within the point's chunk (an entry, less the chunk's first),
+  // or -1; see PointVoxels.
+  std::vector<std::int32_t> point_entry_;
   std::vector<std::uint32_t> count_;  // points per voxel
   std::vector<Eigen::Vector3f> centroid_;
   std::vector<std::uint64_t> column_;

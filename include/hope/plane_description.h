@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "hope/convex_hull.h"
 #include "hope/grid_filter.h"
 #include "hope/plane.h"
 
@@ -39,12 +40,5 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
                     const std::vector<const std::vector<std::uint32_t>*>& members,
                     const std::vector<HorizontalPlane*>& planes, int threads = 1,
                     const PointLabelling& labelling = PointLabelling());
-
-// Convex hull (Andrew's monotone chain), counter-clockwise, without repeated endpoint. Fewer
-// than three distinct points come back as they are (deduplicated).
-std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points);
-// The same without allocating: reorders and overwrites points[0..n) (scratch) and writes the
-// hull to `hull`, which must have room for 2n + 1 points. Returns the hull's size.
-std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull);
 
 }  // namespace hope

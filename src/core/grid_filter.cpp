@@ -46,7 +46,7 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   }
   // Every entry is written by the point pass (-1 for non-finite points), or below when no
   // point is finite.
-  point_voxel_.resize(n);
+  point_entry_.resize(n);
   centroid_.clear();
   column_.clear();
   cell_x_.clear();
@@ -76,7 +76,7 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
     }
   }
   if (m == 0) {
-    point_voxel_.assign(n, -1);
+    point_entry_.assign(n, -1);
     return;
   }
 
@@ -88,7 +88,7 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
   assignPointsToVoxels(aligned, nz, hints.row_width, parallel::resolve(hints.threads));
-  orderVoxels(nx_ * ny_ <= denseColumnLimit(m), hints.threads);
+  orderVoxels(nx_ * ny_ <= denseColumnLimit(m));
 }
 
 namespace {
@@ -274,7 +274,7 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t
       index.reset(row_width);
       const std::size_t begin = c * kPointsPerChunk;
       assignRange(aligned, begin, std::min(n, begin + kPointsPerChunk), g, row_width, index, list,
-                  point_voxel_.data());
+                  point_entry_.data());
     }
   });
   // Every chunk's voxels side by side: entry chunk_begin_[c] + local is voxel `local` of chunk c.
@@ -317,9 +317,8 @@ void VoxelGrid::sortEntriesByKey() {
 
 // The chunks' voxels sorted by key, i.e. by column (x-major within each row of y) and inside a
 // column by z cell, entries of one key in chunk order; runs of one key become one voxel, its
-// counts and sums added in chunk order. Then the points' chunk voxels are renumbered (each
-// point on its own: split across threads).
-void VoxelGrid::orderVoxels(bool dense_columns, int threads) {
+// counts and sums added in chunk order. The points keep their chunk's numbers (PointVoxels).
+void VoxelGrid::orderVoxels(bool dense_columns) {
   const std::size_t num_chunks = chunk_begin_.size() - 1;
   const std::size_t num_entries = chunk_begin_[num_chunks];
   entries_.clear();
@@ -356,19 +355,6 @@ void VoxelGrid::orderVoxels(bool dense_columns, int threads) {
     cell_x_[v] = static_cast<std::int32_t>(column_[v] % nx_);
     cell_y_[v] = static_cast<std::int32_t>(column_[v] / nx_);
   }
-  parallel::forShares(point_voxel_.size(), parallel::resolve(threads), std::size_t{1} << 15,
-                      [this](int /*share*/, std::size_t begin, std::size_t end) {
-                        // A point's number is its chunk's voxel: through its entry to the
-                        // voxel.
-                        for (std::size_t i = begin; i < end; ++i) {
-                          const std::int32_t local = point_voxel_[i];
-                          if (local >= 0) {
-                            point_voxel_[i] = static_cast<std::int32_t>(
-                                entry_voxel_[chunk_begin_[i / kPointsPerChunk] + local]);
-                          }
-                        }
-                      });
-
   if (dense_columns) {
     // Column c's voxels begin at the first voxel of a column >= c: one write per column.
     const std::size_t num_columns = static_cast<std::size_t>(nx_ * ny_);
@@ -387,6 +373,13 @@ void VoxelGrid::orderVoxels(bool dense_columns, int threads) {
       v = end;
     }
   }
+}
+
+std::vector<std::int32_t> VoxelGrid::pointVoxel() const {
+  const PointVoxels voxels = pointVoxels();
+  std::vector<std::int32_t> out(voxels.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = voxels[i];
+  return out;
 }
 
 std::pair<std::uint32_t, std::uint32_t> VoxelGrid::sparseColumnVoxels(std::uint64_t c) const {

@@ -13,10 +13,6 @@ namespace hope {
 
 namespace {
 
-double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
 // Whether a voxel's cell lies strictly inside the convex hull of the other cells' points: true
 // when the plane has cells in all four diagonal quadrants around it (up-left, up-right,
 // down-left, down-right: columns and rows strictly beyond the cell's). Then every point p of
@@ -102,107 +98,6 @@ const char* toString(Facing facing) {
   return "unknown";
 }
 
-namespace {
-
-// Akl–Toussaint: the points extreme in eight directions (x, y and both diagonals, both ways)
-// span an octagon inside the hull, and a point strictly inside it cannot be a hull vertex.
-// One pass drops those points, so that the O(n log n) sort sees only the few near the rim; the
-// hull is the same, vertex for vertex. Returns the number of points kept at the front.
-std::size_t dropPointsInsideExtremeOctagon(Eigen::Vector2d* points, std::size_t n) {
-  // Directions at -90°, -45°, 0°, 45°, 90°, 135°, 180°, 225° (their extreme points follow one
-  // another counter-clockwise around the hull), scored without multiplications: -y, x - y, x,
-  // x + y, y, y - x, -x, -x - y.
-  std::size_t extreme[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  double best[8];
-  for (int k = 0; k < 8; ++k) best[k] = -HUGE_VAL;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double x = points[i].x(), y = points[i].y();
-    const double score[8] = {-y, x - y, x, x + y, y, y - x, -x, -x - y};
-    for (int k = 0; k < 8; ++k) {
-      if (score[k] > best[k]) best[k] = score[k], extreme[k] = i;
-    }
-  }
-  Eigen::Vector2d octagon[8];
-  std::size_t corners = 0;
-  for (int k = 0; k < 8; ++k) {
-    const Eigen::Vector2d& p = points[extreme[k]];
-    if (corners == 0 || p != octagon[corners - 1]) octagon[corners++] = p;
-  }
-  while (corners > 1 && octagon[corners - 1] == octagon[0]) --corners;
-  if (corners < 3) return n;
-  auto strictlyInside = [&](const Eigen::Vector2d& p, double margin) {
-    for (std::size_t k = 0; k < corners; ++k) {
-      if (!(cross(octagon[k], octagon[(k + 1) % corners], p) > margin)) return false;
-    }
-    return true;
-  };
-  // Most points lie well inside: a box inside the octagon settles them with four comparisons.
-  // The box spanned by the innermost coordinates of the extreme points on each side touches the
-  // octagon (a rectangle's corners are its vertices), so it is shrunk about its centre until
-  // its corners lie inside by a margin far above the rounding of the edge tests: a point inside
-  // it then passes every edge test too (the tests are linear in the point), and the points
-  // kept are the same as with the edge tests alone.
-  auto coordinate = [&](int k, int axis) { return points[extreme[k]](axis); };
-  const double left = std::max({coordinate(5, 0), coordinate(6, 0), coordinate(7, 0)});
-  const double right = std::min({coordinate(1, 0), coordinate(2, 0), coordinate(3, 0)});
-  const double bottom = std::max({coordinate(7, 1), coordinate(0, 1), coordinate(1, 1)});
-  const double top = std::min({coordinate(3, 1), coordinate(4, 1), coordinate(5, 1)});
-  const double extent = (best[2] + best[6]) + (best[4] + best[0]);  // width + height
-  const double margin = 1e-6 * extent * extent;
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  bool use_box = false;
-  for (const double shrink : {0.98, 0.9, 0.7}) {
-    if (!(left < right && bottom < top)) break;
-    const double cx = 0.5 * (left + right), cy = 0.5 * (bottom + top);
-    const double hx = 0.5 * shrink * (right - left), hy = 0.5 * shrink * (top - bottom);
-    x0 = cx - hx, x1 = cx + hx, y0 = cy - hy, y1 = cy + hy;
-    use_box = true;
-    for (int corner = 0; corner < 4 && use_box; ++corner) {
-      use_box = strictlyInside(Eigen::Vector2d(corner & 1 ? x1 : x0, corner & 2 ? y1 : y0), margin);
-    }
-    if (use_box) break;
-  }
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d p = points[i];
-    if (use_box && p.x() > x0 && p.x() < x1 && p.y() > y0 && p.y() < y1) continue;
-    if (!strictlyInside(p, 0.0)) points[kept++] = p;
-  }
-  return kept;
-}
-
-}  // namespace
-
-std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull) {
-  auto less = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  };
-  // Below a few dozen points the sort is cheaper than the extra pass.
-  if (n > 64) n = dropPointsInsideExtremeOctagon(points, n);
-  std::sort(points, points + n, less);
-  n = static_cast<std::size_t>(std::unique(points, points + n) - points);
-  if (n < 3) {
-    std::copy(points, points + n, hull);
-    return n;
-  }
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < n; ++i) {  // lower chain
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper chain
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
-    hull[k++] = points[i];
-  }
-  return k - 1;  // the last point repeats the first
-}
-
-std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
-  std::vector<Eigen::Vector2d> hull(2 * points.size() + 1);
-  hull.resize(convexHullInPlace(points.data(), points.size(), hull.data()));
-  return hull;
-}
-
 HorizontalPlane describePlane(const VoxelGrid& grid, const AlignedPoints& aligned,
                               const std::vector<std::uint32_t>& members, Detail detail) {
   HorizontalPlane plane;
@@ -258,54 +153,79 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
   if (num_planes == 0 && !labelling.point_labels) return;
   threads = parallel::resolve(threads);
   // The plane of each voxel at a plane's rim (see InteriorTest); -1 for the others, whose
-  // points are inside their plane's hull and within its bbox.
+  // points are inside their plane's hull and within its bbox. Each plane numbers its rim voxels
+  // (rim_slot), the cells of its hull's CellPoints.
   std::vector<std::int32_t> rim_owner(grid.numVoxels(), -1);
+  std::vector<std::uint32_t> rim_slot(grid.numVoxels());
+  std::vector<std::vector<std::uint32_t>> rims(num_planes);
   parallel::forEach(num_planes, threads, [&](std::size_t k) {
     if (members[k]->empty()) return;
     const InteriorTest interior(grid, *members[k]);
     for (std::uint32_t v : *members[k]) {
-      if (!interior(grid.cellX(v), grid.cellY(v))) rim_owner[v] = static_cast<std::int32_t>(k);
+      if (interior(grid.cellX(v), grid.cellY(v))) continue;
+      rim_owner[v] = static_cast<std::int32_t>(k);
+      rim_slot[v] = static_cast<std::uint32_t>(rims[k].size());
+      rims[k].push_back(v);
     }
   });
   // One read of the points' voxels for all planes: each share of the points collects its hull
   // candidates per plane (every point of a rim voxel: a vertex need not be a voxel's extreme
   // in x or y, one at a cell's corner can stick out diagonally).
   constexpr int kMaxShares = 64;
-  std::vector<std::vector<Eigen::Vector2d>> candidates[kMaxShares];
-  const std::vector<std::int32_t>& point_voxel = grid.pointVoxel();
+  struct Candidates {
+    std::vector<Eigen::Vector2d> points;
+    std::vector<std::uint32_t> slots;  // each point's rim voxel, as rim_slot numbers it
+  };
+  std::vector<Candidates> candidates[kMaxShares];
+  const VoxelGrid::PointVoxels point_voxel = grid.pointVoxels();
   const int shares = parallel::forShares(
       point_voxel.size(), std::min(threads, kMaxShares), std::size_t{1} << 15,
       [&](int share, std::size_t begin, std::size_t end) {
-        std::vector<std::vector<Eigen::Vector2d>>& mine = candidates[share];
+        std::vector<Candidates>& mine = candidates[share];
         mine.assign(num_planes, {});
+        // Locals, not captures: the stores into the labels (int32_t) could otherwise alias
+        // every table read here, which the compiler would then reload for each point.
+        const VoxelGrid::PointVoxels voxels = point_voxel;
+        const std::int32_t* owner = rim_owner.data();
         std::int32_t* labels = labelling.point_labels;
+        const std::int32_t* voxel_label = labels ? labelling.voxel_label->data() : nullptr;
         for (std::size_t i = begin; i < end; ++i) {
-          const std::int32_t v = point_voxel[i];
-          if (labels) {
-            labels[i] = v < 0 ? -1 : (*labelling.voxel_label)[static_cast<std::size_t>(v)];
-          }
+          const std::int32_t v = voxels[i];
+          if (labels) labels[i] = v < 0 ? -1 : voxel_label[v];
           if (v < 0) continue;
-          const std::int32_t k = rim_owner[static_cast<std::size_t>(v)];
+          const std::int32_t k = owner[v];
           if (k < 0) continue;
           const Eigen::Vector3f p = aligned[i];
-          mine[static_cast<std::size_t>(k)].emplace_back(p.x(), p.y());
+          Candidates& own = mine[static_cast<std::size_t>(k)];
+          own.points.emplace_back(p.x(), p.y());
+          own.slots.push_back(rim_slot[static_cast<std::size_t>(v)]);
         }
       });
   parallel::forEach(num_planes, threads, [&](std::size_t k) {
     HorizontalPlane& plane = *planes[k];
     if (members[k]->empty()) return;
-    std::vector<Eigen::Vector2d> points = std::move(candidates[0][k]);
+    CellPoints rim;
+    rim.side = grid.rXY();
+    rim.points = std::move(candidates[0][k].points);
+    rim.cell_of_point = std::move(candidates[0][k].slots);
     for (int s = 1; s < shares; ++s) {
-      points.insert(points.end(), candidates[s][k].begin(), candidates[s][k].end());
+      const Candidates& more = candidates[s][k];
+      rim.points.insert(rim.points.end(), more.points.begin(), more.points.end());
+      rim.cell_of_point.insert(rim.cell_of_point.end(), more.slots.begin(), more.slots.end());
     }
     Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
-    for (const Eigen::Vector2d& q : points) {
+    for (const Eigen::Vector2d& q : rim.points) {
       lo = lo.cwiseMin(q);
       hi = hi.cwiseMax(q);
     }
     plane.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
+    // Each rim voxel's column and the mean of its points, which lies inside their hull.
+    for (std::uint32_t v : rims[k]) {
+      rim.cell_min.emplace_back(grid.cellMinX(grid.cellX(v)), grid.cellMinY(grid.cellY(v)));
+      rim.cell_inner.emplace_back(grid.centroid(v).x(), grid.centroid(v).y());
+    }
     plane.hull.clear();
-    for (const Eigen::Vector2d& h : convexHull2D(std::move(points))) {
+    for (const Eigen::Vector2d& h : convexHullOfCellPoints(rim)) {
       plane.hull.emplace_back(h.x(), h.y(), plane.height);
     }
     std::vector<std::pair<std::int64_t, std::int64_t>> cells;

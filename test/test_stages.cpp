@@ -77,12 +77,11 @@ TEST(GridFilter, SparseWideCloudsTakeTheHashPathWithTheSameResult) {
   }
 }
 
-// A width x height "image" of a wavy surface with NaN holes, in row order, and the hints an
-// organized cloud brings (row width, the box and count of its finite points).
+// A width x height "image" of a wavy surface with NaN holes, in row order, and the hints the
+// alignment brings (the box and count of its finite points).
 GridHints wavyImage(int width, int height, std::vector<Eigen::Vector3f>& image) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   GridHints hints;
-  hints.row_width = static_cast<std::size_t>(width);
   Eigen::AlignedBox3f box;
   for (int row = 0; row < height; ++row) {
     for (int col = 0; col < width; ++col) {
@@ -192,8 +191,8 @@ TEST(GridFilter, EqualsThePlainReferenceOnShuffledNoisyAndSparseClouds) {
     grid.build(*pts, 0.3, 0.1);
     expectSameAsReference(grid, *pts, 0.3, 0.1);
   }
-  // The hints an organized cloud brings (row width, the box from the alignment) change
-  // nothing: a 200 x 150 "image" of a wavy surface, with NaN holes, read with them.
+  // The hints the alignment brings (the box and count of the finite points) change nothing:
+  // a 200 x 150 "image" of a wavy surface, with NaN holes, read with them.
   std::vector<Eigen::Vector3f> image;
   const GridHints hints = wavyImage(200, 150, image);
   grid.build(image, 0.009, 0.002, hints);

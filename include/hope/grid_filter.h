@@ -20,9 +20,6 @@ namespace hope {
 
 // What the caller may already know about the points, to save the grid a pass or lookups.
 struct GridHints {
-  // Points per image row for an organized cloud (0: unorganized). The point one row up, which
-  // often shares the voxel, is then checked before the voxel table.
-  std::size_t row_width = 0;
   // The box of the finite points and their number (alignToGravity computes both on its pass);
   // without them build() reads the points once more to find them.
   std::optional<Eigen::AlignedBox3f> finite_box;
@@ -47,16 +44,15 @@ struct VoxelList {
 
 // From key to its number in a VoxelList: an open-addressing hash table (slots cleared one by
 // one after use, so a small list costs little however large the table grew), with a small
-// direct-mapped table of recently seen voxels and the voxel of each image column's point in
-// the row above (organized clouds) in front of it. One per thread, reused across chunks and
-// frames.
+// direct-mapped table of recently seen voxels in front of it. One per thread, reused across
+// chunks and frames.
 struct VoxelIndex {
   std::vector<std::uint64_t> slot_key;
   std::vector<std::uint32_t> slot_voxel, voxel_slot;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> recent, row_above;  // key, voxel
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> recent;  // key, voxel
 
-  // Empties the index (for a new list) and sizes the row-above table.
-  void reset(std::size_t row_width);
+  // Empties the index (for a new list).
+  void reset();
   // The number of `key` in `list`, appended (count and sum zero) when new.
   std::uint32_t voxelOf(std::uint64_t key, std::uint64_t column, std::uint64_t iz, VoxelList& list);
 
@@ -180,8 +176,7 @@ class VoxelGrid {
   // Pass 2 of build(): each chunk's points assigned to the chunk's own voxels (point_entry_
   // holds the chunk's voxel numbers), with their keys, point counts and coordinate sums, on up
   // to `threads` threads.
-  void assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, std::size_t row_width,
-                            int threads);
+  void assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, int threads);
   // Pass 3: the chunks' voxels sorted by (column, z cell) and a key's entries joined into one
   // voxel (counts and sums added in chunk order); entry_voxel_ maps each chunk's voxels to them.
   void orderVoxels(bool dense_columns);

@@ -68,7 +68,6 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   hints.finite_box = finite_box;
   hints.finite_points = result.finite_points;
-  if (cloud.organized()) hints.row_width = cloud.width;
   hints.threads = threads;
   result.timings.alignment_ms = stage.lap();
 

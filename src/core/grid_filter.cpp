@@ -87,7 +87,7 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   ny_ = cellCount(extent.y(), r_xy, "y", "r_xy");
   const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
 
-  assignPointsToVoxels(aligned, nz, hints.row_width, parallel::resolve(hints.threads));
+  assignPointsToVoxels(aligned, nz, parallel::resolve(hints.threads));
   orderVoxels(nx_ * ny_ <= denseColumnLimit(m));
 }
 
@@ -118,21 +118,21 @@ struct CellMath {
 // Assigns the points [begin, end) to voxels of `list` through `index`, writing the list's
 // voxel numbers to point_voxel, counting and summing each voxel's points in input order.
 // Points that follow each other in a scan or an image mostly share a voxel, so the last voxel
-// is checked first, then (organized clouds) the voxel of the point one row up, then recently
-// seen voxels, and only then the hash table. Everything the loop touches per point lives in
-// locals: a store through point_voxel or into a table could otherwise alias a member, and the
-// compiler would reload them after every point. The current voxel's count and coordinate sums
-// are carried in registers while its run of points lasts, starting from (and written back to)
-// its stored totals, so each voxel's points are still added one by one in input order.
+// is checked first, then recently seen voxels, and only then the hash table. (A table of the
+// voxels of the row above, for organized clouds, cost more than it saved: the recent voxels
+// hold most of them, and it took a store per point and a branch per voxel change.) Everything the
+// loop touches per point lives in locals: a store through point_voxel or into a table could
+// otherwise alias a member, and the compiler would reload them after every point. The current
+// voxel's count and coordinate sums are carried in registers while its run of points lasts,
+// starting from (and written back to) its stored totals, so each voxel's points are still added one
+// by one in input order.
 void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t end,
-                 const CellMath& g, std::size_t row_width, detail::VoxelIndex& index,
-                 detail::VoxelList& list, std::int32_t* point_voxel) {
+                 const CellMath& g, detail::VoxelIndex& index, detail::VoxelList& list,
+                 std::int32_t* point_voxel) {
   const std::uint8_t* data = aligned.data;
   const std::size_t stride = aligned.stride;
   const double ox = g.ox, oy = g.oy, oz = g.oz, inv_xy = g.inv_xy, inv_z = g.inv_z;
   const std::uint64_t nx = g.nx, nz = g.nz, last_x = g.nx - 1, last_y = g.ny - 1, last_z = g.nz - 1;
-  std::pair<std::uint64_t, std::uint32_t>* row_above = index.row_above.data();
-  std::size_t column_in_row = row_width > 0 ? begin % row_width : 0;
   std::uint64_t last_key = kEmptySlot;
   std::uint32_t last_voxel = 0, run = 0;
   double sum_x = 0, sum_y = 0, sum_z = 0;
@@ -144,11 +144,6 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
   for (std::size_t i = begin; i < end; ++i) {
     float xyz[3];
     std::memcpy(xyz, data + i * stride, sizeof(xyz));
-    std::pair<std::uint64_t, std::uint32_t>* above = nullptr;
-    if (row_width > 0) {
-      above = &row_above[column_in_row];
-      if (++column_in_row == row_width) column_in_row = 0;
-    }
     if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) {  // NaN/inf
       point_voxel[i] = -1;
       continue;
@@ -162,21 +157,16 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
     if (key != last_key) {
       storeRun();
       last_key = key;
-      if (above && above->first == key) {
-        last_voxel = above->second;
-      } else {
-        // Noise makes neighbouring points alternate between a few voxels of one column:
-        // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache)
-        // in front of the large hash table.
-        auto& recent = index.recent[key & (kRecentVoxels - 1)];
-        if (recent.first != key) recent = {key, index.voxelOf(key, column, iz, list)};
-        last_voxel = recent.second;
-      }
+      // Noise makes neighbouring points alternate between a few voxels of one column:
+      // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache) in
+      // front of the large hash table.
+      auto& recent = index.recent[key & (kRecentVoxels - 1)];
+      if (recent.first != key) recent = {key, index.voxelOf(key, column, iz, list)};
+      last_voxel = recent.second;
       const Eigen::Vector3d& stored = list.sum[last_voxel];
       sum_x = stored.x(), sum_y = stored.y(), sum_z = stored.z();
       run = 0;
     }
-    if (above) *above = {key, last_voxel};
     point_voxel[i] = static_cast<std::int32_t>(last_voxel);
     ++run;
     sum_x += px, sum_y += py, sum_z += pz;
@@ -204,7 +194,7 @@ void VoxelList::append(const VoxelList& other) {
   sum.insert(sum.end(), other.sum.begin(), other.sum.end());
 }
 
-void VoxelIndex::reset(std::size_t row_width) {
+void VoxelIndex::reset() {
   if (slot_key.empty()) {
     slot_key.assign(4096, kEmptySlot);
     slot_voxel.assign(4096, 0);
@@ -213,7 +203,6 @@ void VoxelIndex::reset(std::size_t row_width) {
   for (const std::uint32_t slot : voxel_slot) slot_key[slot] = kEmptySlot;
   voxel_slot.clear();
   recent.assign(kRecentVoxels, {kEmptySlot, 0});
-  row_above.assign(row_width, {kEmptySlot, 0});
 }
 
 std::uint32_t VoxelIndex::voxelOf(std::uint64_t k, std::uint64_t c, std::uint64_t z,
@@ -254,8 +243,7 @@ void VoxelIndex::grow() {
 
 }  // namespace detail
 
-void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz,
-                                     std::size_t row_width, int threads) {
+void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t nz, int threads) {
   const CellMath g{origin_.x(), origin_.y(), origin_.z(), 1.0 / r_xy_, 1.0 / r_z_, nx_, ny_, nz};
   const std::size_t n = aligned.size();
   const std::size_t num_chunks = (n + kPointsPerChunk - 1) / kPointsPerChunk;
@@ -271,9 +259,9 @@ void VoxelGrid::assignPointsToVoxels(const AlignedPoints& aligned, std::uint64_t
     for (std::size_t c = first; c < last; ++c) {
       detail::VoxelList& list = chunks_[c];
       list.clear();
-      index.reset(row_width);
+      index.reset();
       const std::size_t begin = c * kPointsPerChunk;
-      assignRange(aligned, begin, std::min(n, begin + kPointsPerChunk), g, row_width, index, list,
+      assignRange(aligned, begin, std::min(n, begin + kPointsPerChunk), g, index, list,
                   point_entry_.data());
     }
   });

@@ -34,7 +34,11 @@ struct CellPoints {
 // points extreme in kHullDirections directions span a polygon inside the hull; cells entirely
 // inside it are dropped whole, and the points of the others are tested only against the
 // polygon's edges their cell crosses. Only the few points left near the rim are sorted.
-std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells);
+// cells.points is used as scratch (reordered, overwritten or moved from). With
+// `points_sorted`, also says how many points were left for the sort (all of them when the
+// shortcut did not apply).
+std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells,
+                                                    std::size_t* points_sorted = nullptr);
 
 constexpr int kHullDirections = 32;
 

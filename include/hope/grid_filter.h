@@ -18,7 +18,7 @@
 
 namespace hope {
 
-// What the caller may already know about the points, to save the grid a pass or lookups.
+// What the caller may already know about the points, to save the grid a pass over them.
 struct GridHints {
   // The box of the finite points and their number (alignToGravity computes both on its pass);
   // without them build() reads the points once more to find them.
@@ -124,6 +124,7 @@ class VoxelGrid {
     const std::uint32_t* chunk_begin_;
     std::size_t size_;
   };
+  // The view reads the grid's tables in place: valid until the next build().
   PointVoxels pointVoxels() const { return PointVoxels(*this); }
   // The same as a vector, written out on each call (one pass over the points).
   std::vector<std::int32_t> pointVoxel() const;
@@ -144,9 +145,10 @@ class VoxelGrid {
   // The voxels of columns cx0..cx1 (inclusive, clipped to the grid) of row cy as one half-open
   // index range: voxels are ordered by column, x-major within a row, so they are contiguous,
   // each column's voxels after the previous column's. A stage that looks at three neighbouring
-  // columns of a row then needs one lookup, not three. Only when denseColumns().
+  // columns of a row then needs one lookup, not three. Empty unless denseColumns().
   std::pair<std::uint32_t, std::uint32_t> rowVoxels(std::int64_t cx0, std::int64_t cx1,
                                                     std::int64_t cy) const {
+    if (dense_column_begin_.empty()) return {0, 0};
     cx0 = std::max<std::int64_t>(cx0, 0);
     cx1 = std::min<std::int64_t>(cx1, static_cast<std::int64_t>(nx_) - 1);
     if (cy < 0 || static_cast<std::uint64_t>(cy) >= ny_ || cx0 > cx1) return {0, 0};

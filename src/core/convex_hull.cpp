@@ -119,9 +119,10 @@ std::vector<Eigen::Vector2d> convexHull2D(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
-std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells) {
+std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells, std::size_t* points_sorted) {
   std::vector<Eigen::Vector2d>& points = cells.points;
   const std::size_t n = points.size();
+  if (points_sorted) *points_sorted = n;
   const std::size_t num_cells = cells.cell_min.size();
   // Below a few dozen points the sort is cheaper than the extra passes.
   if (n <= 64 || num_cells == 0 || !(cells.side > 0) || !std::isfinite(cells.side)) {
@@ -217,6 +218,7 @@ std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells) {
     }
     if (!inside) points[kept++] = p;
   }
+  if (points_sorted) *points_sorted = kept;
   std::vector<Eigen::Vector2d> hull(2 * kept + 1);
   hull.resize(monotoneChain(points.data(), kept, hull.data()));
   return hull;

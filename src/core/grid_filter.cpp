@@ -83,9 +83,19 @@ void VoxelGrid::build(const AlignedPoints& aligned, double r_xy, double r_z,
   origin_ = lo.cast<double>();
   const Eigen::Vector3d extent = hi.cast<double>() - origin_;
   extent_ = extent;
-  nx_ = cellCount(extent.x(), r_xy, "x", "r_xy");
-  ny_ = cellCount(extent.y(), r_xy, "y", "r_xy");
-  const std::uint64_t nz = cellCount(extent.z(), r_z, "z", "r_z");
+  std::uint64_t nz = 1;
+  try {
+    nx_ = cellCount(extent.x(), r_xy, "x", "r_xy");
+    ny_ = cellCount(extent.y(), r_xy, "y", "r_xy");
+    nz = cellCount(extent.z(), r_z, "z", "r_z");
+  } catch (...) {
+    // Left as an empty grid: the points' entries of the previous cloud must not be read
+    // through this one's tables (pointVoxels()).
+    point_entry_.assign(n, -1);
+    nx_ = ny_ = 1;
+    extent_.setZero();
+    throw;
+  }
 
   assignPointsToVoxels(aligned, nz, parallel::resolve(hints.threads));
   orderVoxels(nx_ * ny_ <= denseColumnLimit(m));

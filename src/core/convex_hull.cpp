@@ -9,6 +9,9 @@ namespace hope {
 
 namespace {
 
+// Up to this many points a hull sorts them all: a filter's extra pass would cost more.
+constexpr std::size_t kSortAllUpTo = 64;
+
 double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
@@ -108,8 +111,7 @@ std::size_t monotoneChain(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2
 }  // namespace
 
 std::size_t convexHullInPlace(Eigen::Vector2d* points, std::size_t n, Eigen::Vector2d* hull) {
-  // Below a few dozen points the sort is cheaper than the extra pass.
-  if (n > 64) n = dropPointsInsideExtremeOctagon(points, n);
+  if (n > kSortAllUpTo) n = dropPointsInsideExtremeOctagon(points, n);
   return monotoneChain(points, n, hull);
 }
 
@@ -124,8 +126,7 @@ std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells, std::size
   const std::size_t n = points.size();
   if (points_sorted) *points_sorted = n;
   const std::size_t num_cells = cells.cell_min.size();
-  // Below a few dozen points the sort is cheaper than the extra passes.
-  if (n <= 64 || num_cells == 0 || !(cells.side > 0) || !std::isfinite(cells.side)) {
+  if (n <= kSortAllUpTo || num_cells == 0 || !(cells.side > 0) || !std::isfinite(cells.side)) {
     return convexHull2D(std::move(points));
   }
   constexpr int K = kHullDirections;
@@ -156,13 +157,17 @@ std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells, std::size
   for (const Eigen::Vector2d& inner : cells.cell_inner) {
     for (int k = 0; k < K; ++k) lower[k] = std::max(lower[k], directions[k].dot(inner));
   }
+  // Each cell's square grown by the slack: its centre and half side.
   const double half = 0.5 * cells.side + slack;
+  std::vector<Eigen::Vector2d> centre(num_cells);
+  for (std::size_t c = 0; c < num_cells; ++c) {
+    centre[c] = cells.cell_min[c] + Eigen::Vector2d::Constant(0.5 * cells.side);
+  }
   std::vector<std::uint32_t> reach(num_cells, 0);
   for (std::size_t c = 0; c < num_cells; ++c) {
-    const Eigen::Vector2d centre = cells.cell_min[c] + Eigen::Vector2d::Constant(0.5 * cells.side);
     for (int k = 0; k < K; ++k) {
       const Eigen::Vector2d& d = directions[k];
-      const double upper = d.dot(centre) + half * (std::fabs(d.x()) + std::fabs(d.y()));
+      const double upper = d.dot(centre[c]) + half * (std::fabs(d.x()) + std::fabs(d.y()));
       if (upper >= lower[k] - slack) reach[c] |= std::uint32_t{1} << k;
     }
   }
@@ -198,12 +203,11 @@ std::vector<Eigen::Vector2d> convexHullOfCellPoints(CellPoints& cells, std::size
   const double margin = 1e-6 * extent * extent;
   std::vector<std::uint32_t> crossed(num_cells, 0);
   for (std::size_t c = 0; c < num_cells; ++c) {
-    const Eigen::Vector2d centre = cells.cell_min[c] + Eigen::Vector2d::Constant(0.5 * cells.side);
     for (std::size_t e = 0; e < corners; ++e) {
       const Eigen::Vector2d& a = polygon[e];
-      const Eigen::Vector2d edge = polygon[(e + 1) % corners] - a;
-      const double lowest = cross(a, polygon[(e + 1) % corners], centre) -
-                            half * (std::fabs(edge.x()) + std::fabs(edge.y()));
+      const Eigen::Vector2d& b = polygon[(e + 1) % corners];
+      const double lowest =
+          cross(a, b, centre[c]) - half * (std::fabs(b.x() - a.x()) + std::fabs(b.y() - a.y()));
       if (!(lowest > margin)) crossed[c] |= std::uint32_t{1} << e;
     }
   }

@@ -1,6 +1,7 @@
 // Each stage on its own, with hand-checkable inputs.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <random>
@@ -327,6 +328,117 @@ TEST(Normals, FlatSheetGivesVerticalNormalsAndSlopesGiveTheirTilt) {
     EXPECT_NEAR(std::acos(n.z()), 0.3, 0.02);
   }
   EXPECT_GT(finite, static_cast<int>(normals.size() * 9 / 10));
+}
+
+// estimateNormals works column by column (columnMoments); moments() is the plain per-voxel
+// definition. They must agree bit for bit, on short columns and on tall ones (a wall, more
+// voxels than VoxelGrid::kShortColumn), for the paper's 4-neighbours and wider radii.
+TEST(Normals, ColumnByColumnEqualsVoxelByVoxel) {
+  std::mt19937 rng(7);
+  std::normal_distribution<float> noise(0.f, 0.004f);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) {
+      const float x = 0.013f * i, y = 0.013f * j;
+      pts.emplace_back(x, y, noise(rng));                                                   // floor
+      if (i > 10 && i < 30 && j > 5 && j < 25) pts.emplace_back(x, y, 0.72f + noise(rng));  // table
+      pts.emplace_back(x, y, 0.05f + 0.25f * x + noise(rng));                               // ramp
+    }
+  }
+  for (int k = 0; k < 120; ++k) {  // a wall: tall columns
+    for (int j = 0; j < 40; ++j) pts.emplace_back(0.6f + noise(rng), 0.013f * j, 0.012f * k);
+  }
+  VoxelGrid grid;
+  grid.build(pts, 0.05, 0.02);
+  std::size_t tall_columns = 0;
+  for (std::size_t v = 0; v < grid.numVoxels();) {
+    const auto column = grid.columnVoxels(grid.cellX(v), grid.cellY(v));
+    tall_columns += column.second - column.first > VoxelGrid::kShortColumn ? 1 : 0;
+    v = column.second;
+  }
+  ASSERT_GT(tall_columns, 5u);
+  for (const double radius_factor : {1.01, 1.5, 2.5}) {
+    const NormalNeighbourhood neighbourhood(grid, radius_factor);
+    std::vector<NormalNeighbourhood::Moments> column_moments;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> windows;
+    std::size_t compared = 0, partial = 0;
+    for (std::size_t v = 0; v < grid.numVoxels();) {
+      const auto column = grid.columnVoxels(grid.cellX(v), grid.cellY(v));
+      column_moments.assign(column.second - column.first, {});
+      neighbourhood.columnMoments(column.first, column.second, column_moments.data(), windows);
+      for (std::uint32_t u = column.first; u < column.second; ++u) {
+        const NormalNeighbourhood::Moments expected = neighbourhood.moments(u);
+        const NormalNeighbourhood::Moments& got = column_moments[u - column.first];
+        ASSERT_EQ(got.count, expected.count) << "voxel " << u << ", radius " << radius_factor;
+        for (int i = 0; i < 3; ++i) ASSERT_EQ(got.sum(i), expected.sum(i)) << "voxel " << u;
+        for (int i = 0; i < 9; ++i) ASSERT_EQ(got.outer(i), expected.outer(i)) << "voxel " << u;
+        ++compared;
+        // A wall voxel sees only part of its column: the window must slide, not stay put.
+        if (column.second - column.first > VoxelGrid::kShortColumn && expected.count > 0) ++partial;
+      }
+      v = column.second;
+    }
+    EXPECT_EQ(compared, grid.numVoxels());
+    EXPECT_GT(partial, 100u);
+    // The normals estimateNormals writes are those of each voxel's own moments.
+    std::vector<Eigen::Vector3f> normals;
+    estimateNormals(grid, radius_factor, normals);
+    std::size_t with_normal = 0;
+    for (std::size_t v = 0; v < grid.numVoxels(); ++v) {
+      const NormalNeighbourhood::Moments m = neighbourhood.moments(v);
+      Eigen::Vector3f n;
+      if (m.count < 3 || !planeNormal(m.covariance(), n)) {
+        EXPECT_FALSE(normals[v].allFinite()) << "voxel " << v;
+        continue;
+      }
+      n.normalize();
+      if (n.z() < 0) n = -n;
+      ASSERT_EQ(normals[v], n) << "voxel " << v << ", radius " << radius_factor;
+      ++with_normal;
+    }
+    EXPECT_GT(with_normal, grid.numVoxels() / 2);
+  }
+}
+
+// Newton's method on two voxels at once gives each the smallest root it gets alone, bit for
+// bit: pairs that stop after different numbers of steps, flat and round neighbourhoods, a
+// singular one (c0 <= 0, no step at all).
+TEST(Normals, NewtonStepsOnTwoVoxelsAtOnceGiveEachItsOwnRoot) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  struct Known {
+    detail::CharacteristicCubic cubic;
+    double lambda0;  // the smallest eigenvalue it was made from
+  };
+  auto cubicOf = [](double l0, double l1, double l2) {
+    detail::CharacteristicCubic c{};
+    c.c2 = l0 + l1 + l2;
+    c.c1 = l0 * l1 + l0 * l2 + l1 * l2;
+    c.c0 = l0 * l1 * l2;
+    return Known{c, std::max(l0, 0.0)};
+  };
+  std::vector<Known> cubics = {cubicOf(0, 0.5, 1), cubicOf(-1e-18, 0.3, 1), cubicOf(0.3, 0.31, 1)};
+  for (int i = 0; i < 2000; ++i) {
+    const double l1 = 0.05 + 0.95 * unit(rng);
+    cubics.push_back(cubicOf(std::pow(10.0, -12 * unit(rng)) * l1, l1, 1.0));
+  }
+  std::size_t steps_differ = 0;
+  for (std::size_t i = 0; i < cubics.size(); ++i) {
+    const Known& a = cubics[i];
+    const Known& b = cubics[(i * 7919 + 13) % cubics.size()];
+    double root_a = -1, root_b = -1;
+    detail::smallestRoots(a.cubic, b.cubic, root_a, root_b);
+    const double alone_a = detail::smallestRoot(a.cubic), alone_b = detail::smallestRoot(b.cubic);
+    ASSERT_EQ(std::memcmp(&root_a, &alone_a, sizeof(double)), 0) << i << ": " << root_a;
+    ASSERT_EQ(std::memcmp(&root_b, &alone_b, sizeof(double)), 0) << i << ": " << root_b;
+    // Steps below 1e-12·c2 are not taken: λ0 is known to that, absolutely.
+    ASSERT_NEAR(alone_a, a.lambda0, 2e-12 * a.cubic.c2 + 1e-9 * a.lambda0) << i;
+    // Flat against round: one lane stops steps before the other.
+    if (std::fabs(std::log10(a.lambda0 + 1e-30) - std::log10(b.lambda0 + 1e-30)) > 3) {
+      ++steps_differ;
+    }
+  }
+  EXPECT_GT(steps_differ, 500u);  // many pairs of a flat and a rounder neighbourhood
 }
 
 TEST(Normals, IsolatedVoxelsAndLinesHaveNoNormal) {

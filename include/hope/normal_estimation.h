@@ -13,6 +13,7 @@
 // slope Eq 3 lets through (atan(√2·γ)), tight enough to keep a plane 3·r_z above out.
 #pragma once
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,14 @@ class NormalNeighbourhood {
     Eigen::Matrix3f covariance() const;  // count > 0
   };
   Moments moments(std::size_t v) const;
+  // The moments of every voxel of one column: voxels [first, last), the column's whole range as
+  // VoxelGrid::columnVoxels gives it, into out[0, last - first). The same sums, bit for bit, as
+  // moments() of each voxel: the neighbours are visited in the same order. The neighbour
+  // columns are looked up once per column, and in each of them the window of z cells within
+  // reach slides up with the voxel (a column's voxels are sorted by z cell) instead of being
+  // searched for again. `windows` is scratch space, kept by the caller across columns.
+  void columnMoments(std::uint32_t first, std::uint32_t last, Moments* out,
+                     std::vector<std::pair<std::uint32_t, std::uint32_t>>& windows) const;
 
  private:
   const VoxelGrid& grid_;
@@ -49,6 +58,25 @@ class NormalNeighbourhood {
 // double; a round neighbourhood, where that eigenvector is ill-defined, goes to Eigen's solver.
 // The sign is arbitrary.
 bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal);
+
+namespace detail {
+
+// planeNormal's steps, exposed for tests. The covariance scaled to entries of at most 1 in
+// magnitude, in double: the characteristic polynomial's coefficients then carry the smallest
+// eigenvalue of a flat neighbourhood (many orders of magnitude below the others) to far more
+// digits than float would.
+struct CharacteristicCubic {
+  double a00, a01, a02, a11, a12, a22;
+  double c2, c1, c0;  // det(λI − A) = λ³ − c2·λ² + c1·λ − c0
+};
+// The cubic's smallest root λ0 by Newton's method from 0.
+double smallestRoot(const CharacteristicCubic& cubic);
+// smallestRoot of two cubics at once (SSE2), bit for bit: the same operations in the same order
+// in each lane, and a lane that has stopped keeps its value.
+void smallestRoots(const CharacteristicCubic& a, const CharacteristicCubic& b, double& root_a,
+                   double& root_b);
+
+}  // namespace detail
 
 // Writes one unit normal per voxel, oriented so that n_z >= 0 (the sign of a PCA normal is
 // arbitrary; §2.2 takes |n_z| for the same reason). A voxel with fewer than 3 neighbours

@@ -9,6 +9,10 @@
 
 #include "parallel.h"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace hope {
 
 namespace {
@@ -31,14 +35,37 @@ NormalNeighbourhood::NormalNeighbourhood(const VoxelGrid& grid, double radius_fa
   reach_z_ = static_cast<int>(std::ceil(max_dz_ / grid.rZ())) + 1;
 }
 
+namespace {
+
+// The sums of one neighbourhood, in scalars: through the Moments struct the compiler stored all
+// twelve after each neighbour. Each entry takes the same products in the same order as d·dᵀ
+// would.
+struct MomentSums {
+  float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+  int count = 0;
+
+  void add(float ex, float ey, float ez) {
+    sx += ex, sy += ey, sz += ez;
+    sxx += ex * ex, sxy += ex * ey, sxz += ex * ez;
+    syy += ey * ey, syz += ey * ez, szz += ez * ez;
+    ++count;
+  }
+  NormalNeighbourhood::Moments moments() const {
+    NormalNeighbourhood::Moments m;
+    m.sum = Eigen::Vector3f(sx, sy, sz);
+    m.outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+    m.count = count;
+    return m;
+  }
+};
+
+}  // namespace
+
 NormalNeighbourhood::Moments NormalNeighbourhood::moments(std::size_t v) const {
   const Eigen::Vector3f p = grid_.centroid(v);
   const int cx = grid_.cellX(v), cy = grid_.cellY(v), cz = grid_.cellZ(v);
-  // Offsets from p keep the sums small, so single precision stays accurate far from 0. The
-  // sums live in scalars (through the Moments struct the compiler stored all twelve after each
-  // neighbour); each entry takes the same products in the same order as d·dᵀ would.
-  float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
-  int count = 0;
+  // Offsets from p keep the sums small, so single precision stays accurate far from 0.
+  MomentSums sums;
   const float max_dz = max_dz_;
   for (const auto& [dx, dy] : offsets_) {
     const auto range = grid_.columnVoxels(cx + dx, cy + dy);
@@ -47,17 +74,43 @@ NormalNeighbourhood::Moments NormalNeighbourhood::moments(std::size_t v) const {
       const Eigen::Vector3f& q = grid_.centroid(u);
       const float ex = q.x() - p.x(), ey = q.y() - p.y(), ez = q.z() - p.z();
       if (std::fabs(ez) > max_dz) continue;
-      sx += ex, sy += ey, sz += ez;
-      sxx += ex * ex, sxy += ex * ey, sxz += ex * ez;
-      syy += ey * ey, syz += ey * ez, szz += ez * ez;
-      ++count;
+      sums.add(ex, ey, ez);
     }
   }
-  Moments m;
-  m.sum = Eigen::Vector3f(sx, sy, sz);
-  m.outer << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-  m.count = count;
-  return m;
+  return sums.moments();
+}
+
+void NormalNeighbourhood::columnMoments(
+    std::uint32_t first, std::uint32_t last, Moments* out,
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& windows) const {
+  if (first >= last) return;
+  const int cx = grid_.cellX(first), cy = grid_.cellY(first);
+  // windows[j]: the first voxel of neighbour column j not yet known to lie below the reach of
+  // the current voxel, and the column's end.
+  windows.resize(offsets_.size());
+  for (std::size_t j = 0; j < offsets_.size(); ++j) {
+    windows[j] = grid_.columnVoxels(cx + offsets_[j].first, cy + offsets_[j].second);
+  }
+  const float max_dz = max_dz_;
+  const int reach_z = reach_z_;
+  for (std::uint32_t v = first; v < last; ++v) {
+    const Eigen::Vector3f p = grid_.centroid(v);
+    const int cz = grid_.cellZ(v);
+    MomentSums sums;
+    for (auto& [begin, end] : windows) {
+      // The voxels are taken in z order, so what lies below this voxel's reach lies below the
+      // next one's too.
+      while (begin < end && grid_.cellZ(begin) < cz - reach_z) ++begin;
+      for (std::uint32_t u = begin; u < end; ++u) {
+        if (grid_.cellZ(u) > cz + reach_z) break;
+        const Eigen::Vector3f& q = grid_.centroid(u);
+        const float ex = q.x() - p.x(), ey = q.y() - p.y(), ez = q.z() - p.z();
+        if (std::fabs(ez) > max_dz) continue;
+        sums.add(ex, ey, ez);
+      }
+    }
+    out[v - first] = sums.moments();
+  }
 }
 
 Eigen::Matrix3f NormalNeighbourhood::Moments::covariance() const {
@@ -65,42 +118,21 @@ Eigen::Matrix3f NormalNeighbourhood::Moments::covariance() const {
   return outer / static_cast<float>(count) - mean * mean.transpose();
 }
 
-bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal) {
-  // Entries scaled to at most 1 in magnitude, in double: the characteristic polynomial's
-  // coefficients then carry the smallest eigenvalue of a flat neighbourhood (many orders of
-  // magnitude below the others) to far more digits than float would.
-  double scale = 0;
-  for (int i = 0; i < 9; ++i) scale = std::max(scale, std::fabs(double{covariance(i)}));
-  if (!(scale > 0) || !std::isfinite(scale)) return false;
-  const double inverse = 1.0 / scale;
-  const double a00 = covariance(0, 0) * inverse, a01 = covariance(0, 1) * inverse;
-  const double a02 = covariance(0, 2) * inverse, a11 = covariance(1, 1) * inverse;
-  const double a12 = covariance(1, 2) * inverse, a22 = covariance(2, 2) * inverse;
-  // det(λI − A) = λ³ − c2·λ² + c1·λ − c0.
-  const double c2 = a00 + a11 + a22;
-  const double c1 = a00 * a11 + a00 * a22 + a11 * a22 - a01 * a01 - a02 * a02 - a12 * a12;
-  const double c0 =
-      a00 * (a11 * a22 - a12 * a12) - a01 * (a01 * a22 - a12 * a02) + a02 * (a01 * a12 - a11 * a02);
-  auto eigenSolverFallback = [&]() {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
-    solver.computeDirect(covariance);
-    const Eigen::Vector3f& eigenvalues = solver.eigenvalues();  // ascending
-    if (!(eigenvalues(1) > kMinPlanarity * eigenvalues(2))) return false;
-    normal = solver.eigenvectors().col(0);
-    return normal.allFinite() && normal.squaredNorm() >= 0.5f;
-  };
-  // Most voxels of a sparse scan see their neighbours on one scan line. With
-  // λ0 <= λ1 <= λ2: λ2 >= c2 / 3 and λ1·λ2 <= c1, so λ1 / λ2 <= 9·c1 / c2²; below the
-  // planarity share that settles it without solving (where Newton's method would crawl
-  // towards the double root λ0 ≈ λ1 ≈ 0).
-  if (!(9 * c1 > kMinPlanarity * c2 * c2)) return false;
-  // The smallest eigenvalue λ0: Newton's method from 0, which lies at or below it (a
-  // covariance is positive semi-definite). Left of its smallest root a cubic with three real
-  // roots rises and is concave, so every step lands between the last point and the root: it
-  // climbs to λ0 and never passes it. c0 = λ0·λ1·λ2 below 0 is rounding in a singular matrix
-  // (neighbours on a line, or exactly flat): λ0 is 0 to within that rounding.
+namespace detail {
+
+namespace {
+constexpr int kMaxNewtonSteps = 64;
+}  // namespace
+
+// The smallest eigenvalue λ0: Newton's method from 0, which lies at or below it (a covariance
+// is positive semi-definite). Left of its smallest root a cubic with three real roots rises and
+// is concave, so every step lands between the last point and the root: it climbs to λ0 and
+// never passes it. c0 = λ0·λ1·λ2 below 0 is rounding in a singular matrix (neighbours on a
+// line, or exactly flat): λ0 is 0 to within that rounding.
+double smallestRoot(const CharacteristicCubic& cubic) {
+  const double c2 = cubic.c2, c1 = cubic.c1, c0 = cubic.c0;
   double lambda0 = 0;
-  for (int iteration = 0; iteration < 64 && c0 > 0; ++iteration) {
+  for (int iteration = 0; iteration < kMaxNewtonSteps && c0 > 0; ++iteration) {
     const double f = ((lambda0 - c2) * lambda0 + c1) * lambda0 - c0;
     const double slope = (3 * lambda0 - 2 * c2) * lambda0 + c1;
     if (!(slope > 0)) break;
@@ -110,27 +142,105 @@ bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal) {
     if (!(step > 1e-12 * c2)) break;
     lambda0 += step;
   }
+  return lambda0;
+}
+
+// Two voxels at a time: each voxel's chain of divisions overlaps the other's, and the loop's
+// exit is mispredicted once for two voxels instead of once for each.
+void smallestRoots(const CharacteristicCubic& a, const CharacteristicCubic& b, double& root_a,
+                   double& root_b) {
+#ifdef __SSE2__
+  const __m128d c2 = _mm_setr_pd(a.c2, b.c2), c1 = _mm_setr_pd(a.c1, b.c1);
+  const __m128d c0 = _mm_setr_pd(a.c0, b.c0);
+  const __m128d zero = _mm_setzero_pd(), three = _mm_set1_pd(3), two = _mm_set1_pd(2);
+  const __m128d sign = _mm_set1_pd(-0.0), tolerance = _mm_mul_pd(_mm_set1_pd(1e-12), c2);
+  __m128d lambda0 = zero;
+  __m128d running = _mm_cmpgt_pd(c0, zero);
+  for (int iteration = 0; iteration < kMaxNewtonSteps && _mm_movemask_pd(running) != 0;
+       ++iteration) {
+    const __m128d f = _mm_sub_pd(
+        _mm_mul_pd(_mm_add_pd(_mm_mul_pd(_mm_sub_pd(lambda0, c2), lambda0), c1), lambda0), c0);
+    const __m128d slope = _mm_add_pd(
+        _mm_mul_pd(_mm_sub_pd(_mm_mul_pd(three, lambda0), _mm_mul_pd(two, c2)), lambda0), c1);
+    running = _mm_and_pd(running, _mm_cmpgt_pd(slope, zero));
+    const __m128d step = _mm_div_pd(_mm_xor_pd(f, sign), slope);  // -f / slope
+    running = _mm_and_pd(running, _mm_cmpgt_pd(step, tolerance));
+    lambda0 = _mm_add_pd(lambda0, _mm_and_pd(running, step));  // + 0 where stopped
+  }
+  alignas(16) double roots[2];
+  _mm_store_pd(roots, lambda0);
+  root_a = roots[0];
+  root_b = roots[1];
+#else
+  root_a = smallestRoot(a);
+  root_b = smallestRoot(b);
+#endif
+}
+
+}  // namespace detail
+
+namespace {
+
+// planeNormal in three steps (the cubic, its smallest root, the normal), so that estimateNormals
+// can take the middle one two voxels at a time. False when the covariance fixes no plane, before
+// any solving.
+bool characteristicCubic(const Eigen::Matrix3f& covariance, detail::CharacteristicCubic& cubic) {
+  double scale = 0;
+  for (int i = 0; i < 9; ++i) scale = std::max(scale, std::fabs(double{covariance(i)}));
+  if (!(scale > 0) || !std::isfinite(scale)) return false;
+  const double inverse = 1.0 / scale;
+  const double a00 = covariance(0, 0) * inverse, a01 = covariance(0, 1) * inverse;
+  const double a02 = covariance(0, 2) * inverse, a11 = covariance(1, 1) * inverse;
+  const double a12 = covariance(1, 2) * inverse, a22 = covariance(2, 2) * inverse;
+  const double c2 = a00 + a11 + a22;
+  const double c1 = a00 * a11 + a00 * a22 + a11 * a22 - a01 * a01 - a02 * a02 - a12 * a12;
+  const double c0 =
+      a00 * (a11 * a22 - a12 * a12) - a01 * (a01 * a22 - a12 * a02) + a02 * (a01 * a12 - a11 * a02);
+  cubic = {a00, a01, a02, a11, a12, a22, c2, c1, c0};
+  // Most voxels of a sparse scan see their neighbours on one scan line. With
+  // λ0 <= λ1 <= λ2: λ2 >= c2 / 3 and λ1·λ2 <= c1, so λ1 / λ2 <= 9·c1 / c2²; below the
+  // planarity share that settles it without solving (where Newton's method would crawl
+  // towards the double root λ0 ≈ λ1 ≈ 0).
+  return 9 * c1 > kMinPlanarity * c2 * c2;
+}
+
+// The normal from the cubic and its smallest root λ0.
+bool normalFromRoot(const Eigen::Matrix3f& covariance, const detail::CharacteristicCubic& cubic,
+                    double lambda0, Eigen::Vector3f& normal) {
   // λ1 and λ2 from their sum and product (the roots of the cubic divided by λ − λ0); the
   // smaller one as product / larger, free of cancellation.
-  const double sum = c2 - lambda0;
-  const double product = std::max(0.0, c1 - lambda0 * sum);
+  const double sum = cubic.c2 - lambda0;
+  const double product = std::max(0.0, cubic.c1 - lambda0 * sum);
   const double lambda2 = 0.5 * sum + std::sqrt(std::max(0.0, 0.25 * sum * sum - product));
   const double lambda1 = lambda2 > 0 ? product / lambda2 : 0.0;
   if (!(lambda1 > kMinPlanarity * lambda2)) return false;  // a line, a point or a blob's rim
   // The eigenvector of λ0 is orthogonal to every row of A − λ0·I: the largest cross product of
   // two rows. It is ill-defined only where λ0 nearly equals λ1 (a round blob), which the
-  // general solver settles as before.
-  const Eigen::Vector3d r0(a00 - lambda0, a01, a02), r1(a01, a11 - lambda0, a12),
-      r2(a02, a12, a22 - lambda0);
+  // general solver settles.
+  const Eigen::Vector3d r0(cubic.a00 - lambda0, cubic.a01, cubic.a02),
+      r1(cubic.a01, cubic.a11 - lambda0, cubic.a12), r2(cubic.a02, cubic.a12, cubic.a22 - lambda0);
   Eigen::Vector3d best = r0.cross(r1);
   for (const Eigen::Vector3d& candidate : {r0.cross(r2), r1.cross(r2)}) {
     if (candidate.squaredNorm() > best.squaredNorm()) best = candidate;
   }
   if (!(best.squaredNorm() > 1e-8 * lambda2 * lambda2 * lambda2 * lambda2)) {
-    return eigenSolverFallback();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver;
+    solver.computeDirect(covariance);
+    const Eigen::Vector3f& eigenvalues = solver.eigenvalues();  // ascending
+    if (!(eigenvalues(1) > kMinPlanarity * eigenvalues(2))) return false;
+    normal = solver.eigenvectors().col(0);
+    return normal.allFinite() && normal.squaredNorm() >= 0.5f;
   }
   normal = (best / best.norm()).cast<float>();
   return true;
+}
+
+}  // namespace
+
+bool planeNormal(const Eigen::Matrix3f& covariance, Eigen::Vector3f& normal) {
+  detail::CharacteristicCubic cubic;
+  if (!characteristicCubic(covariance, cubic)) return false;
+  return normalFromRoot(covariance, cubic, detail::smallestRoot(cubic), normal);
 }
 
 void estimateNormals(const VoxelGrid& grid, double radius_factor,
@@ -139,17 +249,50 @@ void estimateNormals(const VoxelGrid& grid, double radius_factor,
   const float nan = std::numeric_limits<float>::quiet_NaN();
   normals.assign(num_voxels, Eigen::Vector3f(nan, nan, nan));
   const NormalNeighbourhood neighbourhood(grid, radius_factor);
-  parallel::forShares(num_voxels, parallel::resolve(threads), 2048,
-                      [&](int /*share*/, std::size_t begin, std::size_t end) {
-                        for (std::size_t v = begin; v < end; ++v) {
-                          const NormalNeighbourhood::Moments m = neighbourhood.moments(v);
-                          if (m.count < 3) continue;
-                          Eigen::Vector3f n;
-                          if (!planeNormal(m.covariance(), n)) continue;
-                          n.normalize();
-                          normals[v] = n.z() < 0 ? Eigen::Vector3f(-n) : n;
-                        }
-                      });
+  // Column by column: each share takes the columns that begin in its range of voxels. Every
+  // voxel's normal depends on its neighbourhood alone, so the split changes nothing.
+  parallel::forShares(
+      num_voxels, parallel::resolve(threads), 2048,
+      [&](int /*share*/, std::size_t begin, std::size_t end) {
+        std::vector<NormalNeighbourhood::Moments> column_moments;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> windows;
+        struct Solving {
+          std::uint32_t index;
+          Eigen::Matrix3f covariance;
+          detail::CharacteristicCubic cubic;
+          double lambda0;
+        };
+        std::vector<Solving> solving;
+        std::size_t v = begin;
+        // A column that began in the previous share is that share's.
+        while (v > 0 && v < end && grid.column(v) == grid.column(v - 1)) ++v;
+        while (v < end) {
+          const auto column = grid.columnVoxels(grid.cellX(v), grid.cellY(v));
+          column_moments.resize(column.second - column.first);
+          neighbourhood.columnMoments(column.first, column.second, column_moments.data(), windows);
+          // planeNormal of each voxel, its Newton steps two voxels at a time.
+          solving.clear();
+          for (std::uint32_t u = column.first; u < column.second; ++u) {
+            const NormalNeighbourhood::Moments& m = column_moments[u - column.first];
+            if (m.count < 3) continue;
+            Solving voxel{u, m.covariance(), {}, 0.0};
+            if (characteristicCubic(voxel.covariance, voxel.cubic)) solving.push_back(voxel);
+          }
+          std::size_t k = 0;
+          for (; k + 1 < solving.size(); k += 2) {
+            detail::smallestRoots(solving[k].cubic, solving[k + 1].cubic, solving[k].lambda0,
+                                  solving[k + 1].lambda0);
+          }
+          if (k < solving.size()) solving[k].lambda0 = detail::smallestRoot(solving[k].cubic);
+          for (const Solving& voxel : solving) {
+            Eigen::Vector3f n;
+            if (!normalFromRoot(voxel.covariance, voxel.cubic, voxel.lambda0, n)) continue;
+            n.normalize();
+            normals[voxel.index] = n.z() < 0 ? Eigen::Vector3f(-n) : n;
+          }
+          v = column.second;
+        }
+      });
 }
 
 }  // namespace hope

@@ -243,6 +243,41 @@ TEST(GridFilter, ThreadedPassEqualsThePlainReference) {
   }
 }
 
+// The point pass joins a point to the current run when its unclamped cells are those of the
+// point before, and tests finiteness only when they change. Two cases that shortcut could get
+// wrong, each checked against the plain reference: points on the box's far side whose quotient
+// lands exactly on the cell count (unclamped cell 187, clamped to 186, the cell of their
+// neighbours: the cells change, the voxel does not), and single infinite coordinates (a z-up
+// cloud is read in place, so infinities reach the grid) in the middle of runs.
+TEST(GridFilter, FarSideOfTheBoxAndInfinitiesEqualThePlainReference) {
+  // x spans [0, 1.5] and r_xy = 1.5 / 187: 1.5 / r_xy rounds below 187, so the grid has 187
+  // columns, while 1.5 · (1 / r_xy), the point pass's product, is exactly 187.
+  const double r_xy = 1.5 / 187;
+  ASSERT_LT(std::floor(1.5 / r_xy) + 1, 188.0);
+  ASSERT_EQ(static_cast<int>(1.5 * (1.0 / r_xy)), 187);
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<Eigen::Vector3f> pts = {{0.f, 0.f, 0.f}};
+  for (int i = 0; i < 40; ++i) {
+    const float y = 0.001f * static_cast<float>(i % 4);
+    // Alternating between unclamped cells 187 and 186 of one voxel, and on to the next row.
+    pts.emplace_back(1.5f, y, 0.005f);
+    pts.emplace_back(1.4995f, y, 0.005f);
+    if (i % 5 == 2) pts.emplace_back(inf, y, 0.005f);
+    if (i % 7 == 3) pts.emplace_back(1.5f, -inf, 0.005f);
+    if (i % 9 == 4) pts.emplace_back(1.4995f, y, inf);
+    pts.emplace_back(1.5f, y, 0.005f);
+  }
+  VoxelGrid grid;
+  grid.build(pts, r_xy, 0.02);
+  expectSameAsReference(grid, pts, r_xy, 0.02);
+  // The far column holds the points of both unclamped cells: 40 · 3 per row of y cells.
+  std::size_t in_last_column = 0;
+  for (std::size_t v = 0; v < grid.numVoxels(); ++v) {
+    if (grid.cellX(v) == 186) in_last_column += grid.numPointsIn(v);
+  }
+  EXPECT_EQ(in_last_column, 120u);
+}
+
 TEST(GridFilter, ACloudSpanningMoreCellsThanSupportedIsAClearError) {
   const auto pts = points({{0, 0, 0}, {1e6f, 0, 0}});
   VoxelGrid grid;

@@ -8,10 +8,7 @@
 #include <stdexcept>
 
 #include "parallel.h"
-
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd.h"
 
 namespace hope {
 
@@ -167,7 +164,7 @@ std::size_t alignRange(std::size_t begin, std::size_t end, ReadPoint read, const
   return finite;
 }
 
-#ifdef __SSE2__
+#if HOPE_SSE2
 // Points [0, lastLoadable) can be read with a 16-byte load without passing the end of the
 // cloud's count · stride bytes: all of them when a point takes 16 bytes or more, all but the
 // last with 12 (x, y, z packed).
@@ -281,7 +278,7 @@ std::size_t alignToGravity(const PointsView& input, const Orientation& orientati
       x = xyz[0], y = xyz[1], z = xyz[2];
     };
     bool vectorized = false;
-#ifdef __SSE2__
+#if HOPE_SSE2
     // 16-byte loads: with 12-byte points the load of the cloud's last point would pass its
     // end, so that one point goes through the scalar loop.
     vectorized = true;
@@ -347,7 +344,7 @@ std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int thr
   // One share's box and count, by alignShares' rules (the same whatever the split).
   auto boxRange = [&](std::size_t begin, std::size_t end, Eigen::Vector3f& lo,
                       Eigen::Vector3f& hi) -> std::size_t {
-#ifdef __SSE2__
+#if HOPE_SSE2
     // One 16-byte load per point, the lane after z ignored; a 12-byte cloud's last point is
     // left to the scalar loop (its load would pass the end). min(p, lo) keeps lo on ties, as
     // std::min(lo, p) does.

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "parallel.h"
+#include "simd.h"
 
 namespace hope {
 
@@ -116,33 +117,50 @@ std::size_t slotOf(std::uint64_t key, std::size_t mask) {
 struct CellMath {
   double ox, oy, oz, inv_xy, inv_z;
   std::uint64_t nx, ny, nz;
-  // (p - origin) / leaf is never negative here, so the cheaper signed conversion truncates
-  // exactly as an unsigned one would. Clamping to the last cell guards against the
-  // floating-point case where it lands exactly on the cell count.
-  static std::uint64_t cell(double offset, double inverse_leaf, std::uint64_t last_cell) {
-    return std::min(static_cast<std::uint64_t>(static_cast<std::int64_t>(offset * inverse_leaf)),
-                    last_cell);
-  }
 };
+
+// A point's cell along one axis before the clamp to the last cell: (p - origin) / leaf
+// truncated. Every finite point lies in the box the origin comes from, so the quotient is
+// never negative and, by the kMaxCellsPerAxis check, far below 2^31: truncating it to 32 bits
+// gives what truncating to 64 bits did. A NaN or infinite coordinate gives INT32_MIN (the
+// SSE2 conversion's "integer indefinite", mimicked here), so the sign of the cells is the
+// finiteness test as well.
+inline std::int32_t truncatedCell(double quotient) {
+  return quotient >= 0.0 && quotient < 2147483648.0 ? static_cast<std::int32_t>(quotient)
+                                                    : std::numeric_limits<std::int32_t>::min();
+}
 
 // Assigns the points [begin, end) to voxels of `list` through `index`, writing the list's
 // voxel numbers to point_voxel, counting and summing each voxel's points in input order.
-// Points that follow each other in a scan or an image mostly share a voxel, so the last voxel
-// is checked first, then recently seen voxels, and only then the hash table. (A table of the
-// voxels of the row above, for organized clouds, cost more than it saved: the recent voxels
-// hold most of them, and it took a store per point and a branch per voxel change.) Everything the
-// loop touches per point lives in locals: a store through point_voxel or into a table could
+// Points that follow each other in a scan or an image mostly share a voxel, so the loop is
+// built around that case: a point whose unclamped cells (x and y packed in one word, z) are
+// those of the point before joins the current run with one comparison, and only a change of
+// cells pays for the finiteness test, the clamp, the key and the lookup (the last voxel's key
+// first, then recently seen voxels, and only then the hash table). (A table of the voxels of
+// the row above, for organized clouds, cost more than it saved: the recent voxels hold most of
+// them, and it took a store per point and a branch per voxel change.) Everything the loop
+// touches per point lives in locals: a store through point_voxel or into a table could
 // otherwise alias a member, and the compiler would reload them after every point. The current
 // voxel's count and coordinate sums are carried in registers while its run of points lasts,
-// starting from (and written back to) its stored totals, so each voxel's points are still added one
-// by one in input order.
+// starting from (and written back to) its stored totals, so each voxel's points are still added
+// one by one in input order.
 void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t end,
                  const CellMath& g, detail::VoxelIndex& index, detail::VoxelList& list,
                  std::int32_t* point_voxel) {
   const std::uint8_t* data = aligned.data;
   const std::size_t stride = aligned.stride;
-  const double ox = g.ox, oy = g.oy, oz = g.oz, inv_xy = g.inv_xy, inv_z = g.inv_z;
+  const double oz = g.oz, inv_z = g.inv_z;
   const std::uint64_t nx = g.nx, nz = g.nz, last_x = g.nx - 1, last_y = g.ny - 1, last_z = g.nz - 1;
+#if HOPE_SSE2
+  const __m128d origin_xy = _mm_set_pd(g.oy, g.ox);
+  const __m128d inverse_xy = _mm_set1_pd(g.inv_xy);
+#else
+  const double ox = g.ox, oy = g.oy, inv_xy = g.inv_xy;
+#endif
+  // The unclamped cells of the current run; no point has these (its cells are >= 0, or
+  // INT32_MIN where a coordinate is not finite).
+  std::int64_t run_cells_xy = -1;
+  std::int32_t run_cell_z = -1;
   std::uint64_t last_key = kEmptySlot;
   std::uint32_t last_voxel = 0, run = 0;
   double sum_x = 0, sum_y = 0, sum_z = 0;
@@ -152,30 +170,57 @@ void assignRange(const AlignedPoints& aligned, std::size_t begin, std::size_t en
     list.sum[last_voxel] = Eigen::Vector3d(sum_x, sum_y, sum_z);
   };
   for (std::size_t i = begin; i < end; ++i) {
-    float xyz[3];
-    std::memcpy(xyz, data + i * stride, sizeof(xyz));
-    if ((xyz[0] - xyz[0]) + (xyz[1] - xyz[1]) + (xyz[2] - xyz[2]) != 0.0f) {  // NaN/inf
-      point_voxel[i] = -1;
-      continue;
-    }
-    const double px = xyz[0], py = xyz[1], pz = xyz[2];
-    const std::uint64_t ix = CellMath::cell(px - ox, inv_xy, last_x);
-    const std::uint64_t iy = CellMath::cell(py - oy, inv_xy, last_y);
-    const std::uint64_t iz = CellMath::cell(pz - oz, inv_z, last_z);
-    const std::uint64_t column = ix + nx * iy;
-    const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
-    if (key != last_key) {
-      storeRun();
-      last_key = key;
-      // Noise makes neighbouring points alternate between a few voxels of one column:
-      // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache) in
-      // front of the large hash table.
-      auto& recent = index.recent[key & (kRecentVoxels - 1)];
-      if (recent.first != key) recent = {key, index.voxelOf(key, column, iz, list)};
-      last_voxel = recent.second;
-      const Eigen::Vector3d& stored = list.sum[last_voxel];
-      sum_x = stored.x(), sum_y = stored.y(), sum_z = stored.z();
-      run = 0;
+    const std::uint8_t* record = data + i * stride;
+    std::int64_t xy_bits;  // x and y, two float32
+    float z_float;
+    std::memcpy(&xy_bits, record, sizeof(xy_bits));
+    std::memcpy(&z_float, record + sizeof(xy_bits), sizeof(z_float));
+    const double pz = z_float;
+#if HOPE_SSE2
+    const __m128d pxy = _mm_cvtps_pd(_mm_castsi128_ps(_mm_cvtsi64_si128(xy_bits)));
+    const __m128i cells = _mm_cvttpd_epi32(_mm_mul_pd(_mm_sub_pd(pxy, origin_xy), inverse_xy));
+    const std::int64_t cells_xy = _mm_cvtsi128_si64(cells);  // x cell in the low half
+    const std::int32_t cell_z = _mm_cvttsd_si32(_mm_set_sd((pz - oz) * inv_z));
+    const double px = _mm_cvtsd_f64(pxy), py = _mm_cvtsd_f64(_mm_unpackhi_pd(pxy, pxy));
+#else
+    float xy[2];
+    std::memcpy(xy, &xy_bits, sizeof(xy));
+    const double px = xy[0], py = xy[1];
+    const std::int64_t cells_xy = static_cast<std::int64_t>(
+        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(truncatedCell((py - oy) * inv_xy)))
+         << 32) |
+        static_cast<std::uint32_t>(truncatedCell((px - ox) * inv_xy)));
+    const std::int32_t cell_z = truncatedCell((pz - oz) * inv_z);
+#endif
+    if (((cells_xy ^ run_cells_xy) | (cell_z ^ run_cell_z)) != 0) {
+      const auto cell_x = static_cast<std::int32_t>(cells_xy & 0xffffffff);
+      const auto cell_y = static_cast<std::int32_t>(cells_xy >> 32);
+      if ((cell_x | cell_y | cell_z) < 0) {  // NaN or infinite
+        point_voxel[i] = -1;
+        continue;
+      }
+      run_cells_xy = cells_xy;
+      run_cell_z = cell_z;
+      // Clamped to the last cell: in floating point a point at the box's far side can land
+      // exactly on the cell count.
+      const std::uint64_t ix = std::min(static_cast<std::uint64_t>(cell_x), last_x);
+      const std::uint64_t iy = std::min(static_cast<std::uint64_t>(cell_y), last_y);
+      const std::uint64_t iz = std::min(static_cast<std::uint64_t>(cell_z), last_z);
+      const std::uint64_t column = ix + nx * iy;
+      const std::uint64_t key = column * nz + iz;  // < 2^42 · 2^21
+      if (key != last_key) {
+        storeRun();
+        last_key = key;
+        // Noise makes neighbouring points alternate between a few voxels of one column:
+        // recently seen voxels are kept in a small direct-mapped table (fits the L2 cache) in
+        // front of the large hash table.
+        auto& recent = index.recent[key & (kRecentVoxels - 1)];
+        if (recent.first != key) recent = {key, index.voxelOf(key, column, iz, list)};
+        last_voxel = recent.second;
+        const Eigen::Vector3d& stored = list.sum[last_voxel];
+        sum_x = stored.x(), sum_y = stored.y(), sum_z = stored.z();
+        run = 0;
+      }
     }
     point_voxel[i] = static_cast<std::int32_t>(last_voxel);
     ++run;

@@ -8,10 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "parallel.h"
-
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
+#include "simd.h"
 
 namespace hope {
 
@@ -149,7 +146,7 @@ double smallestRoot(const CharacteristicCubic& cubic) {
 // exit is mispredicted once for two voxels instead of once for each.
 void smallestRoots(const CharacteristicCubic& a, const CharacteristicCubic& b, double& root_a,
                    double& root_b) {
-#ifdef __SSE2__
+#if HOPE_SSE2
   const __m128d c2 = _mm_setr_pd(a.c2, b.c2), c1 = _mm_setr_pd(a.c1, b.c1);
   const __m128d c0 = _mm_setr_pd(a.c0, b.c0);
   const __m128d zero = _mm_setzero_pd(), three = _mm_set1_pd(3), two = _mm_set1_pd(2);

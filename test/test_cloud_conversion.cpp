@@ -117,7 +117,7 @@ TEST(CloudConversion, EmptyCloudIsValid) {
 TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
   const std::vector<Eigen::Vector3f> aligned = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5f}};
   hope::Result result;
-  result.local_origin = Eigen::Vector3d(1024, 0, 0);
+  result.local_origin = Eigen::Vector3d(1024, -512, 3);
   result.planes.resize(2);
   result.planes[0].id = 7;  // ids as the tracker gives them, not the plane's index
   result.planes[1].id = 2;
@@ -145,12 +145,29 @@ TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
     float xyz[3];
     std::memcpy(xyz, msg.data.data() + i * 20, 12);
     EXPECT_EQ(xyz[0], aligned[i].x() + 1024.f) << "point " << i;
-    EXPECT_EQ(xyz[1], aligned[i].y()) << "point " << i;
-    EXPECT_EQ(xyz[2], aligned[i].z()) << "point " << i;
+    EXPECT_EQ(xyz[1], aligned[i].y() - 512.f) << "point " << i;
+    EXPECT_EQ(xyz[2], aligned[i].z() + 3.f) << "point " << i;
     EXPECT_EQ(read(i, 12), expected_rgb[i]) << "point " << i;
     EXPECT_EQ(read(i, 16), expected_label[i]) << "point " << i;
   }
   EXPECT_NE(rgbOf(7), rgbOf(2));  // the colours tell the planes apart
+
+  // Labels for fewer points than the cloud has (none computed for the rest): those points are
+  // on no plane, grey and label 0, and still carry their coordinates.
+  result.point_labels = {1, 0};
+  const sensor_msgs::PointCloud2 partly =
+      hope_ros::labeledCloud(aligned, result, view, std_msgs::Header());
+  ASSERT_EQ(partly.data.size(), 4u * 20u);
+  const std::uint32_t partly_label[4] = {3, 8, 0, 0};
+  for (std::size_t i = 0; i < 4; ++i) {
+    float xyz[3];
+    std::uint32_t label;
+    std::memcpy(xyz, partly.data.data() + i * 20, 12);
+    std::memcpy(&label, partly.data.data() + i * 20 + 16, 4);
+    EXPECT_EQ(xyz[0], aligned[i].x() + 1024.f) << "point " << i;
+    EXPECT_EQ(xyz[2], aligned[i].z() + 3.f) << "point " << i;
+    EXPECT_EQ(label, partly_label[i]) << "point " << i;
+  }
 }
 
 // The nodelet refills the message it published last: whatever that message held (another

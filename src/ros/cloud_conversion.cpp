@@ -202,12 +202,19 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
   std::uint8_t* target = out.data.data();
   const float ox = origin.x(), oy = origin.y(), oz = origin.z();
   const std::size_t num_points = aligned.size();
+  // Each coordinate is copied on its own: through a float[3] the compiler passed every point
+  // through the stack.
   for (std::size_t i = 0; i < num_points; ++i) {
-    float xyz[3];
-    std::memcpy(xyz, source + i * source_stride, sizeof(xyz));
-    xyz[0] += ox, xyz[1] += oy, xyz[2] += oz;
+    const std::uint8_t* point = source + i * source_stride;
+    float x, y, z;
+    std::memcpy(&x, point, sizeof(x));
+    std::memcpy(&y, point + 4, sizeof(y));
+    std::memcpy(&z, point + 8, sizeof(z));
+    x += ox, y += oy, z += oz;
     std::uint8_t* record = target + 20 * i;
-    std::memcpy(record, xyz, sizeof(xyz));
+    std::memcpy(record, &x, sizeof(x));
+    std::memcpy(record + 4, &y, sizeof(y));
+    std::memcpy(record + 8, &z, sizeof(z));
     const int index = i < labelled ? labels[i] : -1;
     std::memcpy(record + 12, table[static_cast<std::size_t>(index + 1)].data(), 8);
   }

@@ -11,12 +11,9 @@
 // tests and by test_threads. Inputs: the demo room seen by the camera, the TUM frame, the
 // pattern object at the paper's fine setting and a 1 M-point unorganized scan.
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "helpers.h"
 #include "hope/convex_hull.h"
@@ -30,6 +27,7 @@
 #include "hope/synthetic/scene.h"
 #include "hope/z_clustering.h"
 #include "reference_grid.h"
+#include "scene_inputs.h"
 
 namespace hope {
 namespace test {
@@ -163,12 +161,6 @@ Result expectSameAsReferencePipeline(const pcl::PointCloud<pcl::PointXYZ>& cloud
   return first;
 }
 
-Orientation poseOf(const Eigen::Isometry3d& pose) {
-  const Eigen::Quaterniond q(pose.linear());
-  const Eigen::Vector3d t = pose.translation();
-  return Orientation::fromPose(t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-}
-
 }  // namespace
 
 TEST(ReferencePipeline, DemoRoomCameraView) {
@@ -183,20 +175,10 @@ TEST(ReferencePipeline, DemoRoomCameraView) {
 }
 
 TEST(ReferencePipeline, TumFrame) {
-  const std::string dir = sharedData("tum_fr1_desk");
-  const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);
-  std::ifstream groundtruth(dir + "/groundtruth.txt");
-  if (depth.empty() || !groundtruth) GTEST_SKIP() << "TUM data not found under " << dir;
-  std::string line;
-  double stamp, tx, ty, tz, qx, qy, qz, qw;
-  while (std::getline(groundtruth, line)) {  // the last pose, as the benchmark takes
-    if (!line.empty() && line[0] != '#') {
-      std::istringstream(line) >> stamp >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
-    }
-  }
-  const Result r = expectSameAsReferencePipeline(
-      depthToCloud(depth, PinholeIntrinsics::tumFreiburg1(), 5000),
-      Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw), Params(), "TUM frame");
+  const std::optional<TumFrame> tum = tumFrameWithLastPose();
+  if (!tum) GTEST_SKIP() << "TUM data not found under " << sharedData("tum_fr1_desk");
+  const Result r =
+      expectSameAsReferencePipeline(tum->cloud, tum->orientation, Params(), "TUM frame");
   // The desk top, 0.78 m above the floor in the ground truth's frame (test_tum).
   EXPECT_GE(planeNear(r, 0.78, 0.03), 0) << describe(r);
 }

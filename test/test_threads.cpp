@@ -3,12 +3,9 @@
 // evenly) and every plane field, every hull vertex and every point label must be identical.
 // Also the in-place read of a z-up cloud against the aligned copy (NoCopy).
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "helpers.h"
 #include "hope/depth_image.h"
@@ -16,6 +13,7 @@
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
+#include "scene_inputs.h"
 
 namespace hope {
 namespace test {
@@ -70,12 +68,6 @@ Result expectSameForAnyThreads(const pcl::PointCloud<pcl::PointXYZ>& cloud,
   return reference;
 }
 
-Orientation poseOf(const Eigen::Isometry3d& pose) {
-  const Eigen::Quaterniond q(pose.linear());
-  const Eigen::Vector3d t = pose.translation();
-  return Orientation::fromPose(t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-}
-
 }  // namespace
 
 TEST(Threads, DemoRoomCameraViewIsTheSameForAnyNumberOfThreads) {
@@ -124,20 +116,9 @@ TEST(Threads, LidarScanIsTheSameForAnyNumberOfThreads) {
 }
 
 TEST(Threads, TumFrameIsTheSameForAnyNumberOfThreads) {
-  const std::string dir = sharedData("tum_fr1_desk");
-  const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);
-  std::ifstream groundtruth(dir + "/groundtruth.txt");
-  if (depth.empty() || !groundtruth) GTEST_SKIP() << "TUM data not found under " << dir;
-  std::string line;
-  double stamp, tx, ty, tz, qx, qy, qz, qw;
-  while (std::getline(groundtruth, line)) {  // the last pose, as the benchmark takes
-    if (!line.empty() && line[0] != '#') {
-      std::istringstream(line) >> stamp >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
-    }
-  }
-  const Result r = expectSameForAnyThreads(
-      depthToCloud(depth, PinholeIntrinsics::tumFreiburg1(), 5000),
-      Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw), Params(), "TUM frame");
+  const std::optional<TumFrame> tum = tumFrameWithLastPose();
+  if (!tum) GTEST_SKIP() << "TUM data not found under " << sharedData("tum_fr1_desk");
+  const Result r = expectSameForAnyThreads(tum->cloud, tum->orientation, Params(), "TUM frame");
   // The desk top, 0.78 m above the floor in the ground truth's frame (test_tum).
   EXPECT_GE(planeNear(r, 0.78, 0.03), 0) << describe(r);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include <Eigen/Eigenvalues>
 
@@ -176,13 +177,22 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
     std::vector<Eigen::Vector2d> points;
     std::vector<std::uint32_t> slots;  // each point's rim voxel, as rim_slot numbers it
   };
-  std::vector<Candidates> candidates[kMaxShares];
+  // Kept across calls (one set per thread that calls): a frame's candidates then go into the
+  // capacity the last frame left instead of growing from nothing.
+  // The calling thread's set, named through a pointer: inside the parallel loops the name of a
+  // thread_local would mean each worker's own.
+  thread_local std::vector<Candidates> kept_candidates[kMaxShares];
+  std::vector<Candidates>* const candidates = kept_candidates;
   const VoxelGrid::PointVoxels point_voxel = grid.pointVoxels();
   const int shares = parallel::forShares(
       point_voxel.size(), std::min(threads, kMaxShares), std::size_t{1} << 15,
       [&](int share, std::size_t begin, std::size_t end) {
         std::vector<Candidates>& mine = candidates[share];
-        mine.assign(num_planes, {});
+        if (mine.size() < num_planes) mine.resize(num_planes);
+        for (std::size_t k = 0; k < num_planes; ++k) {
+          mine[k].points.clear();
+          mine[k].slots.clear();
+        }
         // Locals, not captures: the stores into the labels (int32_t) could otherwise alias
         // every table read here, which the compiler would then reload for each point.
         const VoxelGrid::PointVoxels voxels = point_voxel;
@@ -195,9 +205,10 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
           if (v < 0) continue;
           const std::int32_t k = owner[v];
           if (k < 0) continue;
-          const Eigen::Vector3f p = aligned[i];
+          float xy[2];  // the hull and the bbox need x and y only
+          std::memcpy(xy, aligned.data + i * aligned.stride, sizeof(xy));
           Candidates& own = mine[static_cast<std::size_t>(k)];
-          own.points.emplace_back(p.x(), p.y());
+          own.points.emplace_back(xy[0], xy[1]);
           own.slots.push_back(rim_slot[static_cast<std::size_t>(v)]);
         }
       });
@@ -206,8 +217,8 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
     if (members[k]->empty()) return;
     CellPoints rim;
     rim.side = grid.rXY();
-    rim.points = std::move(candidates[0][k].points);
-    rim.cell_of_point = std::move(candidates[0][k].slots);
+    rim.points.swap(candidates[0][k].points);
+    rim.cell_of_point.swap(candidates[0][k].slots);
     for (int s = 1; s < shares; ++s) {
       const Candidates& more = candidates[s][k];
       rim.points.insert(rim.points.end(), more.points.begin(), more.points.end());
@@ -228,6 +239,9 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
     for (const Eigen::Vector2d& h : convexHullOfCellPoints(rim)) {
       plane.hull.emplace_back(h.x(), h.y(), plane.height);
     }
+    // Back into the kept set, whose capacity the next call fills.
+    candidates[0][k].points.swap(rim.points);
+    candidates[0][k].slots.swap(rim.cell_of_point);
     std::vector<std::pair<std::int64_t, std::int64_t>> cells;
     cells.reserve(members[k]->size());
     for (std::uint32_t v : *members[k]) cells.emplace_back(grid.cellX(v), grid.cellY(v));

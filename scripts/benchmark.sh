@@ -14,13 +14,13 @@ export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
 cpu_times() { awk '/^cpu /{print $2+$3+$4+$5+$6+$7+$8+$9, $9}' /proc/stat; }
 read -r total_before steal_before < <(cpu_times)
 # Google Benchmark's own header carries the date, the command and the machine. By default every
-# case runs 5 times in random order and the median is reported: on a shared VM whose speed
+# case runs 10 times in random order and the median is reported: on a shared VM whose speed
 # drifts by 1.5x within minutes, cases run one after another would each catch a different
 # phase (Google Benchmark >= 1.6; older ones run each case once, in order).
 flags=("$@")
 if [ ${#flags[@]} -eq 0 ] &&
   ./build/devel/lib/hope/hope_benchmark --help | grep -q benchmark_enable_random_interleaving; then
-  flags=(--benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+  flags=(--benchmark_repetitions=10 --benchmark_enable_random_interleaving=true
     --benchmark_report_aggregates_only=true)
 fi
 ./build/devel/lib/hope/hope_benchmark "${flags[@]}" 2>&1 | tee docs/benchmark_latest.txt

@@ -177,9 +177,10 @@ void describeInFull(const VoxelGrid& grid, const AlignedPoints& aligned,
     std::vector<Eigen::Vector2d> points;
     std::vector<std::uint32_t> slots;  // each point's rim voxel, as rim_slot numbers it
   };
-  // Kept across calls (one set per thread that calls): a frame's candidates then go into the
-  // capacity the last frame left instead of growing from nothing.
-  // The calling thread's set, named through a pointer: inside the parallel loops the name of a
+  // Kept across calls, one set per calling thread (two extractors on two threads never share
+  // one): a frame's candidates go into the capacity the last frame left instead of growing from
+  // nothing, at the price of holding that much (the largest frame's rim points) between calls.
+  // The parallel loops reach the caller's set through the pointer: inside them the name of a
   // thread_local would mean each worker's own.
   thread_local std::vector<Candidates> kept_candidates[kMaxShares];
   std::vector<Candidates>* const candidates = kept_candidates;

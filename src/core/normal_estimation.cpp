@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -102,8 +103,9 @@ void NormalNeighbourhood::columnMoments(
   const Eigen::Vector3f* centroids = &grid_.centroid(0);
   auto load = [centroids](std::uint32_t u) {  // (x, y, z, 0)
     const float* c = centroids[u].data();
-    return _mm_movelh_ps(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(c))),
-                         _mm_load_ss(c + 2));
+    double xy;  // x and y as one 8-byte load (through memcpy: c is only 4-byte aligned)
+    std::memcpy(&xy, c, sizeof(xy));
+    return _mm_movelh_ps(_mm_castpd_ps(_mm_set_sd(xy)), _mm_load_ss(c + 2));
   };
   for (std::uint32_t v = first; v < last; ++v) {
     const __m128 p = load(v);

@@ -57,6 +57,78 @@ struct MomentSums {
   }
 };
 
+// The sums of the neighbours of the voxel whose centroid is `centre`, each taken relative to it
+// and only when within max_dz in height: what moments() sums, for columnMoments' loop.
+class NeighbourSums {
+ public:
+  NeighbourSums(const Eigen::Vector3f& centre, float max_dz);
+  void add(const Eigen::Vector3f& q);
+  NormalNeighbourhood::Moments moments() const;
+
+ private:
+#if HOPE_SSE2
+  // In SSE2 lanes: s1_ = (Σex, Σey, Σez), s2_ = Σ e·ex = (Σex·ex, Σey·ex, Σez·ex), s3_ = Σ e·ey
+  // and s4_ = Σ e·ez, of which MomentSums' sums are lanes (the products are the same numbers,
+  // multiplication being commutative). The height test is a lane mask instead of a branch (a
+  // voxel's neighbours pass and fail it in no predictable order): a neighbour that fails it adds
+  // zeros, which leave every sum as it is (a sum of products from +0 is never -0), so the sums
+  // are MomentSums' bit for bit.
+  static __m128 lanes(const Eigen::Vector3f& q) {  // (x, y, z, 0)
+    double xy;  // x and y as one 8-byte load (through memcpy: q is only 4-byte aligned)
+    std::memcpy(&xy, q.data(), sizeof(xy));
+    return _mm_movelh_ps(_mm_castpd_ps(_mm_set_sd(xy)), _mm_load_ss(q.data() + 2));
+  }
+  __m128 centre_, max_dz_;
+  __m128 s1_ = _mm_setzero_ps(), s2_ = s1_, s3_ = s1_, s4_ = s1_;
+  int count_ = 0;
+#else
+  Eigen::Vector3f centre_;
+  float max_dz_;
+  MomentSums sums_;
+#endif
+};
+
+#if HOPE_SSE2
+NeighbourSums::NeighbourSums(const Eigen::Vector3f& centre, float max_dz)
+    : centre_(lanes(centre)), max_dz_(_mm_set1_ps(max_dz)) {}
+
+void NeighbourSums::add(const Eigen::Vector3f& q) {
+  const __m128 e = _mm_sub_ps(lanes(q), centre_);
+  // In unless |ez| > max_dz, as the scalar test reads (not-greater: a NaN is in).
+  const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128 in =
+      _mm_cmpngt_ps(_mm_and_ps(_mm_shuffle_ps(e, e, _MM_SHUFFLE(2, 2, 2, 2)), magnitude), max_dz_);
+  const __m128 d = _mm_and_ps(e, in);
+  s1_ = _mm_add_ps(s1_, d);
+  s2_ = _mm_add_ps(s2_, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(0, 0, 0, 0))));
+  s3_ = _mm_add_ps(s3_, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 1, 1, 1))));
+  s4_ = _mm_add_ps(s4_, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 2, 2, 2))));
+  count_ += _mm_movemask_ps(in) & 1;
+}
+
+NormalNeighbourhood::Moments NeighbourSums::moments() const {
+  alignas(16) float l1[4], l2[4], l3[4], l4[4];
+  _mm_store_ps(l1, s1_), _mm_store_ps(l2, s2_), _mm_store_ps(l3, s3_), _mm_store_ps(l4, s4_);
+  MomentSums sums;
+  sums.sx = l1[0], sums.sy = l1[1], sums.sz = l1[2];
+  sums.sxx = l2[0], sums.sxy = l2[1], sums.sxz = l2[2];
+  sums.syy = l3[1], sums.syz = l3[2], sums.szz = l4[2];
+  sums.count = count_;
+  return sums.moments();
+}
+#else
+NeighbourSums::NeighbourSums(const Eigen::Vector3f& centre, float max_dz)
+    : centre_(centre), max_dz_(max_dz) {}
+
+void NeighbourSums::add(const Eigen::Vector3f& q) {
+  const float ex = q.x() - centre_.x(), ey = q.y() - centre_.y(), ez = q.z() - centre_.z();
+  if (std::fabs(ez) > max_dz_) return;
+  sums_.add(ex, ey, ez);
+}
+
+NormalNeighbourhood::Moments NeighbourSums::moments() const { return sums_.moments(); }
+#endif
+
 }  // namespace
 
 NormalNeighbourhood::Moments NormalNeighbourhood::moments(std::size_t v) const {
@@ -91,72 +163,20 @@ void NormalNeighbourhood::columnMoments(
   }
   const float max_dz = max_dz_;
   const int reach_z = reach_z_;
-#if HOPE_SSE2
-  // The sums in SSE2 lanes: s1 = (Σex, Σey, Σez), s2 = Σ e·ex = (Σex·ex, Σey·ex, Σez·ex), s3 =
-  // Σ e·ey and s4 = Σ e·ez, of which the scalar sums are lanes (the products are the same
-  // numbers, multiplication being commutative). The height test is a lane mask instead of a
-  // branch (a voxel's neighbours pass and fail it in no predictable order): a neighbour that
-  // fails it adds zeros, which leave every sum as it is (a sum of products from +0 is never -0),
-  // so the sums are the scalar loop's bit for bit.
-  const __m128 max_dz_lanes = _mm_set1_ps(max_dz);
-  const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const Eigen::Vector3f* centroids = &grid_.centroid(0);
-  auto load = [centroids](std::uint32_t u) {  // (x, y, z, 0)
-    const float* c = centroids[u].data();
-    double xy;  // x and y as one 8-byte load (through memcpy: c is only 4-byte aligned)
-    std::memcpy(&xy, c, sizeof(xy));
-    return _mm_movelh_ps(_mm_castpd_ps(_mm_set_sd(xy)), _mm_load_ss(c + 2));
-  };
   for (std::uint32_t v = first; v < last; ++v) {
-    const __m128 p = load(v);
     const int cz = grid_.cellZ(v);
-    __m128 s1 = _mm_setzero_ps(), s2 = s1, s3 = s1, s4 = s1;
-    int count = 0;
-    for (auto& [begin, end] : windows) {
-      while (begin < end && grid_.cellZ(begin) < cz - reach_z) ++begin;
-      for (std::uint32_t u = begin; u < end; ++u) {
-        if (grid_.cellZ(u) > cz + reach_z) break;
-        const __m128 e = _mm_sub_ps(load(u), p);
-        // In unless |ez| > max_dz, as the scalar test reads (not-greater: a NaN is in).
-        const __m128 in = _mm_cmpngt_ps(
-            _mm_and_ps(_mm_shuffle_ps(e, e, _MM_SHUFFLE(2, 2, 2, 2)), magnitude), max_dz_lanes);
-        const __m128 d = _mm_and_ps(e, in);
-        s1 = _mm_add_ps(s1, d);
-        s2 = _mm_add_ps(s2, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(0, 0, 0, 0))));
-        s3 = _mm_add_ps(s3, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(1, 1, 1, 1))));
-        s4 = _mm_add_ps(s4, _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(2, 2, 2, 2))));
-        count += _mm_movemask_ps(in) & 1;
-      }
-    }
-    alignas(16) float l1[4], l2[4], l3[4], l4[4];
-    _mm_store_ps(l1, s1), _mm_store_ps(l2, s2), _mm_store_ps(l3, s3), _mm_store_ps(l4, s4);
-    MomentSums sums;
-    sums.sx = l1[0], sums.sy = l1[1], sums.sz = l1[2];
-    sums.sxx = l2[0], sums.sxy = l2[1], sums.sxz = l2[2];
-    sums.syy = l3[1], sums.syz = l3[2], sums.szz = l4[2];
-    sums.count = count;
-    out[v - first] = sums.moments();
-  }
-#else
-  for (std::uint32_t v = first; v < last; ++v) {
-    const Eigen::Vector3f p = grid_.centroid(v);
-    const int cz = grid_.cellZ(v);
-    MomentSums sums;
+    NeighbourSums sums(grid_.centroid(v), max_dz);
     for (auto& [begin, end] : windows) {
       // The voxels are taken in z order, so what lies below this voxel's reach lies below the
       // next one's too.
       while (begin < end && grid_.cellZ(begin) < cz - reach_z) ++begin;
       for (std::uint32_t u = begin; u < end; ++u) {
         if (grid_.cellZ(u) > cz + reach_z) break;
-        const Eigen::Vector3f& q = grid_.centroid(u);
-        const float ex = q.x() - p.x(), ey = q.y() - p.y(), ez = q.z() - p.z();
-        if (std::fabs(ez) > max_dz) continue;
-        sums.add(ex, ey, ez);
+        sums.add(grid_.centroid(u));
       }
     }
     out[v - first] = sums.moments();
   }
-#endif
 }
 
 Eigen::Matrix3f NormalNeighbourhood::Moments::covariance() const {

@@ -9,12 +9,14 @@
 // the working directory; skipped when absent), and generated on first use: a 6-million-point
 // unorganized scan of the synthetic demo room, the pattern object seen by a camera and a
 // simulated HDL-64E street scan.
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include <benchmark/benchmark.h>
 #include <pcl/common/transforms.h>
@@ -178,6 +180,56 @@ void BM_Hope(benchmark::State& state) {
                               : "") +
                  (params.threads > 1 ? ", " + std::to_string(params.threads) + " threads" : ""));
 }
+// A core kept busy for as long as it lives, as another node on a robot keeps one: a thread
+// that spins, scheduled by the kernel like any other process's.
+class BusyCore {
+ public:
+  BusyCore()
+      : spinner_([this] {
+          volatile std::uint64_t work = 0;
+          while (!stop_.load(std::memory_order_relaxed)) work = work + 1;
+        }) {}
+  ~BusyCore() {
+    stop_ = true;
+    spinner_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread spinner_;
+};
+
+// The whole pipeline (hope's defaults) on one thread and on two, on an idle machine and with
+// one core kept busy: more threads must never cost time, whatever the load. Arguments: input
+// (as BM_Hope), threads, busy (1: one core kept busy while the frames run).
+void BM_HopeThreads(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  hope::Params params = in.params;
+  params.threads = static_cast<int>(state.range(1));
+  hope::Extractor extractor(params);
+  extractor.extract(*in.cloud, in.pose);  // buffers grown, pool threads started: steady state
+  std::unique_ptr<BusyCore> busy;
+  if (state.range(2)) busy = std::make_unique<BusyCore>();
+  for (auto _ : state) {
+    const hope::Result r = extractor.extract(*in.cloud, in.pose);
+    benchmark::DoNotOptimize(r.planes.data());
+  }
+  busy.reset();
+  state.SetLabel(std::string(kInputNames[state.range(0)]) + ", " + std::to_string(params.threads) +
+                 (params.threads == 1 ? " thread" : " threads") +
+                 (state.range(2) ? ", one core kept busy" : ", idle"));
+}
+BENCHMARK(BM_HopeThreads)
+    ->Apply([](benchmark::internal::Benchmark* b) {
+      for (int input : {0, 1, 3})
+        for (int threads : {1, 2})
+          for (int busy : {0, 1}) b->Args({input, threads, busy});
+    })
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // Arguments: input (0 TUM frame, 1 6 M-point room, 2 pattern object at r_xy 0.009, 3 HDL-64E
 // street scan), mode (1 hope's defaults; 0 the paper's pipeline: no fragment merge, no scan-gap
 // bridging; 2 no bridging), threads (Params::threads).

@@ -13,10 +13,12 @@ packages=(
   libtf2-ros-dev libtf2-eigen-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   python3-sensor-msgs python3-rosbag python3-tf2-msgs python3-opencv
+  python3-diagnostic-msgs  # rostopic echo /diagnostics (the messages' Python classes)
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
   libvisualization-msgs-dev rviz xvfb imagemagick
   libgtest-dev libbenchmark-dev clang-format time  # time: peak memory in scripts/benchmark.sh
   pybind11-dev python3-dev python3-numpy python3-setuptools  # the Python bindings
+  libboost-program-options-dev  # the command-line tools' arguments
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
 )
 

@@ -11,10 +11,14 @@ sequence on disk (or one written by `hope_synth --sequence`) replays like the re
   /tf                        world -> openni_rgb_optical_frame from groundtruth.txt, when present
 
 usage: tum_to_bag.py FOLDER OUT.bag [--intrinsics "fx fy cx cy"] [--depth-scale 5000]
+The intrinsics are, in this order: --intrinsics, FOLDER/intrinsics.txt ("fx fy cx cy", as
+hope_synth --sequence writes it), TUM freiburg1's (517.3 516.5 318.6 255.3); the script says
+which it uses. Each topic's messages are numbered (header.seq) from 0, as a driver numbers them.
 TUM's depth images are registered to the colour camera, so both use the colour camera's
 optical frame. TUM's accelerometer.txt is read as the specific force in that frame."""
 
 import argparse
+import math
 import os
 import sys
 
@@ -43,8 +47,35 @@ def read_lines(path, fields):
     return rows
 
 
-def camera_info(stamp, width, height, k):
+TUM_FREIBURG1 = [517.3, 516.5, 318.6, 255.3]
+
+
+def intrinsics(args):
+    """(fx fy cx cy, where they come from): --intrinsics, FOLDER/intrinsics.txt, TUM fr1."""
+    if args.intrinsics is not None:
+        text, source = args.intrinsics, "--intrinsics"
+    else:
+        path = os.path.join(args.folder, "intrinsics.txt")
+        if not os.path.exists(path):
+            return TUM_FREIBURG1, "TUM freiburg1's (no %s; give --intrinsics)" % path
+        lines = [line for line in open(path).read().splitlines()
+                 if line.strip() and not line.strip().startswith("#")]
+        if len(lines) != 1:
+            sys.exit("%s: expected one line \"fx fy cx cy\", found %d" % (path, len(lines)))
+        text, source = lines[0], path
+    try:
+        k = [float(v) for v in text.split()]
+    except ValueError:
+        k = []
+    if len(k) != 4 or not all(math.isfinite(v) for v in k) or k[0] <= 0 or k[1] <= 0:
+        sys.exit("%s: intrinsics must be four finite numbers fx fy cx cy with fx, fy > 0, "
+                 "got '%s'" % (source, text))
+    return k, source
+
+
+def camera_info(stamp, width, height, k, seq):
     info = CameraInfo()
+    info.header.seq = seq
     info.header.stamp = stamp
     info.header.frame_id = FRAME
     info.width, info.height = width, height
@@ -57,8 +88,9 @@ def camera_info(stamp, width, height, k):
     return info
 
 
-def image(stamp, array, encoding):
+def image(stamp, array, encoding, seq):
     msg = Image()
+    msg.header.seq = seq
     msg.header.stamp = stamp
     msg.header.frame_id = FRAME
     msg.height, msg.width = array.shape[:2]
@@ -73,12 +105,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("folder")
     parser.add_argument("bag")
-    parser.add_argument("--intrinsics", default="517.3 516.5 318.6 255.3")
+    parser.add_argument("--intrinsics", default=None,
+                        help="fx fy cx cy (default: FOLDER/intrinsics.txt, else TUM fr1's)")
     parser.add_argument("--depth-scale", type=float, default=5000.0)
     args = parser.parse_args()
-    k = [float(v) for v in args.intrinsics.split()]
-    if len(k) != 4:
-        sys.exit("--intrinsics needs four numbers: fx fy cx cy")
+    k, source = intrinsics(args)
+    print("tum_to_bag: intrinsics %s from %s" % (" ".join("%g" % v for v in k), source))
     depth_list = os.path.join(args.folder, "depth.txt")
     if not os.path.exists(depth_list):
         sys.exit("%s: no depth.txt (not a TUM RGB-D folder)" % args.folder)
@@ -92,25 +124,26 @@ def main():
             metres = raw.astype("float32") / args.depth_scale
             metres[raw == 0] = float("nan")
             t = rospy.Time.from_sec(stamp)
-            bag.write("/camera/depth/image", image(t, metres, "32FC1"), t)
+            bag.write("/camera/depth/image", image(t, metres, "32FC1", frames), t)
             bag.write("/camera/depth/camera_info",
-                      camera_info(t, metres.shape[1], metres.shape[0], k), t)
+                      camera_info(t, metres.shape[1], metres.shape[0], k, frames), t)
             frames += 1
         rgb_list = os.path.join(args.folder, "rgb.txt")
         if os.path.exists(rgb_list):
-            for stamp, (name,) in read_lines(rgb_list, 2):
+            for seq, (stamp, (name,)) in enumerate(read_lines(rgb_list, 2)):
                 bgr = cv2.imread(os.path.join(args.folder, name), cv2.IMREAD_COLOR)
                 if bgr is None:
                     sys.exit("cannot read %s" % os.path.join(args.folder, name))
                 t = rospy.Time.from_sec(stamp)
                 bag.write("/camera/rgb/image_color",
-                          image(t, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), "rgb8"), t)
+                          image(t, cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), "rgb8", seq), t)
                 bag.write("/camera/rgb/camera_info",
-                          camera_info(t, bgr.shape[1], bgr.shape[0], k), t)
+                          camera_info(t, bgr.shape[1], bgr.shape[0], k, seq), t)
         accelerometer = os.path.join(args.folder, "accelerometer.txt")
         if os.path.exists(accelerometer):
-            for stamp, values in read_lines(accelerometer, 4):
+            for seq, (stamp, values) in enumerate(read_lines(accelerometer, 4)):
                 imu = Imu()
+                imu.header.seq = seq
                 imu.header.stamp = rospy.Time.from_sec(stamp)
                 imu.header.frame_id = FRAME
                 imu.orientation_covariance[0] = -1.0

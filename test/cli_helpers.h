@@ -52,5 +52,12 @@ class Cli : public ::testing::Test {
 // hope_extract with `args`.
 inline CliRun run(const std::string& args) { return runTool(HOPE_EXTRACT_BIN, args); }
 
+// One of the command-line tools (hope_eval, hope_track_eval, …): they are all built beside
+// hope_extract.
+inline std::string toolBinary(const std::string& tool) {
+  const std::string extract = HOPE_EXTRACT_BIN;
+  return extract.substr(0, extract.rfind('/') + 1) + tool;
+}
+
 }  // namespace test
 }  // namespace hope

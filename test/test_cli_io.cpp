@@ -1,13 +1,18 @@
-// hope_extract and hope_synth as a user runs them: files in, files and exit codes out.
+// The command-line tools as a user runs them: files in, files and exit codes out, and the command
+// line every tool shares (tools/cli.h).
 #include <sys/wait.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -304,6 +309,341 @@ TEST_F(Cli, ErrorsGoToStderrWithTheirExitCode) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("int.pcd' field 'x' is not floating point"), std::string::npos)
       << r.output;
+}
+
+// ---- The command line every tool shares (tools/cli.h): the same rules and the same help.
+
+namespace {
+
+// The parts of a help text, as CommandLine::help lays them out.
+struct HelpLayout {
+  std::vector<std::string> usage;             // the usage lines
+  std::string description;                    // the paragraph below them
+  std::vector<std::string> sections;          // the sections' titles, in order
+  std::vector<std::string> synopses;          // every option entry ("--r-xy M", "-h, --help")
+  std::set<std::size_t> explanation_columns;  // where the options' explanations start
+  std::size_t widest_line = 0;                // in characters on a terminal
+};
+
+std::size_t terminalColumns(const std::string& line) {
+  std::size_t count = 0;
+  for (const char c : line) count += (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+  return count;
+}
+
+std::size_t indentOf(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(' ');
+  return first == std::string::npos ? line.size() : first;
+}
+
+// Reads `help` into its parts, failing the test where it strays from the common layout:
+// "usage: TOOL …" (its other lines indented), a blank line, a one-paragraph description, then
+// each section after a blank line: "title:", an optional note indented by two, and option
+// entries "  --name PLACEHOLDER  explanation" (the explanation on the next line when the
+// synopsis is long), the explanation's other lines indented to its column.
+HelpLayout layoutOf(const std::string& tool, const std::string& help) {
+  HelpLayout layout;
+  std::vector<std::string> lines;
+  std::istringstream in(help);
+  for (std::string line; std::getline(in, line);) {
+    lines.push_back(line);
+    layout.widest_line = std::max(layout.widest_line, terminalColumns(line));
+  }
+  std::size_t i = 0;
+  auto at = [&](std::size_t k) { return k < lines.size() ? lines[k] : std::string("<end>"); };
+  EXPECT_EQ(at(0).rfind("usage: " + tool + " ", 0), 0u) << tool << ": " << at(0);
+  layout.usage.push_back(at(i++));
+  while (i < lines.size() && indentOf(lines[i]) >= 7 && !lines[i].empty()) {
+    layout.usage.push_back(lines[i++]);
+  }
+  EXPECT_EQ(at(i++), "") << tool << ": no blank line after the usage";
+  for (; i < lines.size() && !lines[i].empty(); ++i) {
+    EXPECT_EQ(indentOf(lines[i]), 0u) << tool << ": " << lines[i];
+    layout.description += lines[i] + " ";
+  }
+  EXPECT_FALSE(layout.description.empty()) << tool;
+  while (i < lines.size()) {
+    EXPECT_EQ(at(i++), "") << tool << ": no blank line before a section";
+    const std::string title = at(i++);
+    EXPECT_EQ(indentOf(title), 0u) << tool << ": " << title;
+    EXPECT_EQ(title.back(), ':') << tool << ": " << title;
+    layout.sections.push_back(title);
+    bool in_option = false;
+    std::size_t explanation_column = 0;
+    for (; i < lines.size() && !lines[i].empty(); ++i) {
+      const std::string& line = lines[i];
+      const std::size_t indent = indentOf(line);
+      if (indent == 2 && line[2] == '-') {  // an option entry
+        in_option = true;
+        const std::size_t gap = line.find("  ", 2);
+        layout.synopses.push_back(line.substr(2, gap == std::string::npos ? gap : gap - 2));
+        if (gap != std::string::npos) {
+          explanation_column = line.find_first_not_of(' ', gap);
+        } else {  // the explanation on the next line
+          ++i;
+          explanation_column = indentOf(at(i));
+          EXPECT_GT(at(i).size(), explanation_column) << tool << ": " << line;
+        }
+        layout.explanation_columns.insert(explanation_column);
+      } else if (in_option) {  // an explanation's next line
+        EXPECT_EQ(indent, explanation_column) << tool << ": " << line;
+      } else {  // the section's note, before its options
+        EXPECT_GE(indent, 2u) << tool << ": " << line;
+      }
+    }
+  }
+  return layout;
+}
+
+// A JSON report without its timings, which differ from run to run.
+std::string withoutTimings(const std::string& json) {
+  return json.substr(0, json.find("\"timings_ms\""));
+}
+
+std::size_t planeCount(const std::string& json) {
+  std::size_t count = 0;
+  for (std::size_t at = json.find("\"height\": "); at != std::string::npos;
+       at = json.find("\"height\": ", at + 1)) {
+    ++count;
+  }
+  return count;
+}
+
+// hope_track_eval's Markdown without the tracking times (the last cell of the per-sequence
+// rows), which differ from run to run.
+std::string withoutTrackingTimes(const std::string& markdown) {
+  std::istringstream in(markdown);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("| ", 0) == 0 && line.find("µs") == std::string::npos &&
+        std::count(line.begin(), line.end(), '|') == 13) {
+      line = line.substr(0, line.rfind('|', line.size() - 2));
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+// A floor at 0 and a table top at 0.3 m (z up), 1 cm apart.
+LabeledCloud floorAndTable() {
+  LabeledCloud cloud;
+  addSheet(cloud, 0, 0, 1, 1, 0.0, 0.01, 0);
+  addSheet(cloud, 0.2, 0.2, 0.6, 0.6, 0.3, 0.01, 1);
+  return cloud;
+}
+
+const char* const kTools[] = {"hope_extract", "hope_synth", "hope_eval", "hope_track_eval"};
+
+}  // namespace
+
+TEST_F(Cli, EveryToolPrintsItsHelpInTheCommonLayout) {
+  // A few entries each tool must list, as "name PLACEHOLDER".
+  const std::map<std::string, std::vector<std::string>> expected = {
+      {"hope_extract", {"--input FILE", "--r-xy M", "--no-merge", "--threads N", "--quiet"}},
+      {"hope_synth", {"--out DIR", "--frames N", "--unorganized", "--room-scan SPACING"}},
+      {"hope_eval", {"--out DIR", "--data DIR", "--quick"}},
+      {"hope_track_eval", {"--frames N", "--r-xy M", "--sequences \"pan rpy ...\""}}};
+  std::set<std::size_t> explanation_columns;
+  for (const char* tool : kTools) {
+    const CliRun help = runTool(toolBinary(tool), "--help");
+    ASSERT_EQ(help.exit_code, 0) << tool << ": " << help.output;
+    const CliRun short_help = runTool(toolBinary(tool), "-h");
+    EXPECT_EQ(short_help.exit_code, 0) << tool;
+    EXPECT_EQ(short_help.output, help.output) << tool;
+    // Help wins over anything else on the command line.
+    const CliRun help_and_more = runTool(toolBinary(tool), "--bogus --help");
+    EXPECT_EQ(help_and_more.exit_code, 0) << tool << ": " << help_and_more.output;
+    EXPECT_EQ(help_and_more.output, help.output) << tool;
+
+    const HelpLayout layout = layoutOf(tool, help.output);
+    EXPECT_LE(layout.widest_line, 80u) << tool;
+    ASSERT_GE(layout.sections.size(), 2u) << tool;
+    EXPECT_EQ(layout.sections.back(), "general:") << tool;
+    ASSERT_FALSE(layout.synopses.empty()) << tool;
+    EXPECT_EQ(layout.synopses.back(), "-h, --help") << tool;
+    for (const std::string& synopsis : expected.at(tool)) {
+      EXPECT_EQ(std::count(layout.synopses.begin(), layout.synopses.end(), synopsis), 1)
+          << tool << " lists no '" << synopsis << "' in\n"
+          << help.output;
+    }
+    EXPECT_EQ(layout.explanation_columns.size(), 1u) << tool << ":\n" << help.output;
+    explanation_columns.insert(layout.explanation_columns.begin(),
+                               layout.explanation_columns.end());
+  }
+  EXPECT_EQ(explanation_columns.size(), 1u) << "the tools' explanations start at different columns";
+}
+
+TEST_F(Cli, EveryToolRefusesUnknownRepeatedAndMissingOptionsNamingThem) {
+  struct Case {
+    const char* tool;
+    std::string repeated_value, repeated_name, repeated_flag, flag_name, last_valued;
+  };
+  const std::string out = dir_ + "/out";
+  const Case cases[] = {
+      {"hope_extract", "--input x.pcd --r-xy 0.3 --r-xy=0.2", "--r-xy",
+       "--input x.pcd --quiet --quiet", "--quiet", "--json"},
+      {"hope_synth", "--out " + out + " --out=" + out + "2", "--out",
+       "--out " + out + " --unorganized --unorganized", "--unorganized", "--lidar"},
+      {"hope_eval", "--out " + out + " --out " + out, "--out", "--out " + out + " --quick --quick",
+       "--quick", "--data"},
+      {"hope_track_eval", "--frames 2 --frames 3", "--frames", "", "", "--markdown"}};
+  for (const Case& c : cases) {
+    const std::string bin = toolBinary(c.tool);
+    const std::string error = std::string(c.tool) + ": error: ";
+    auto expectError = [&](const std::string& args, const std::string& message) {
+      const CliRun r = runTool(bin, args);
+      EXPECT_EQ(r.exit_code, 2) << c.tool << " " << args << ": " << r.output;
+      // One line: "<tool>: error: <message>…(see --help)".
+      EXPECT_EQ(r.output.find(error + message), 0u) << c.tool << " " << args << ": " << r.output;
+      EXPECT_EQ(r.output.find('\n'), r.output.size() - 1)
+          << c.tool << " " << args << ": " << r.output;
+      EXPECT_EQ(r.output.rfind(" (see --help)\n"), r.output.size() - 14)
+          << c.tool << " " << args << ": " << r.output;
+    };
+    expectError(c.repeated_value, c.repeated_name + " given more than once");
+    if (!c.repeated_flag.empty()) {
+      expectError(c.repeated_flag, c.flag_name + " given more than once");
+      expectError(c.flag_name + "=yes", c.flag_name + " takes no value");
+    }
+    expectError("--bogus", "unknown option '--bogus'");
+    expectError("--bogus=1", "unknown option '--bogus'");
+    expectError("-x", "unknown option '-x'");
+    expectError(c.last_valued, c.last_valued + " needs a value");
+    expectError(c.last_valued + "=", c.last_valued + " needs a value");
+    // An option where a value belongs: its value was forgotten.
+    expectError(c.last_valued + " --bogus", c.last_valued + " needs a value, not '--bogus'");
+    expectError("stray", "unexpected argument 'stray': options start with --");
+  }
+  // Nothing was written by any of the refused runs.
+  EXPECT_EQ(std::system(("test -z \"$(ls -A " + dir_ + ")\"").c_str()), 0);
+}
+
+TEST_F(Cli, ExtractTakesOptionEqualsValueAsOptionSpaceValue) {
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/in.pcd", floorAndTable().cloud), 0);
+  const std::string in = dir_ + "/in.pcd";
+  const CliRun spaced = run("--input " + in + " --r-xy 0.1 --r-z 0.04 --min-area 0.1 --json " +
+                            dir_ + "/spaced.json --quiet");
+  ASSERT_EQ(spaced.exit_code, 0) << spaced.output;
+  const CliRun joined =
+      run("--input=" + in + " --r-xy=0.1 --r-z=0.04 --min-area=0.1 --json=" + dir_ +
+          "/joined.json --quiet");
+  ASSERT_EQ(joined.exit_code, 0) << joined.output;
+  const std::string json = slurp(dir_ + "/spaced.json");
+  EXPECT_EQ(planeCount(json), 2u) << json;
+  EXPECT_EQ(withoutTimings(slurp(dir_ + "/joined.json")), withoutTimings(json));
+  // The values were used: the default grid gives other planes.
+  ASSERT_EQ(run("--input=" + in + " --json=" + dir_ + "/default.json --quiet").exit_code, 0);
+  EXPECT_NE(withoutTimings(slurp(dir_ + "/default.json")), withoutTimings(json));
+}
+
+TEST_F(Cli, ExtractTakesValuesThatStartWithAMinus) {
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/in.pcd", floorAndTable().cloud), 0);
+  const std::string in = "--input " + dir_ + "/in.pcd --quiet --json " + dir_;
+  auto planesWith = [&](const std::string& name, const std::string& args) {
+    const CliRun r = run(in + "/" + name + " " + args);
+    EXPECT_EQ(r.exit_code, 0) << args << ": " << r.output;
+    return withoutTimings(slurp(dir_ + "/" + name));
+  };
+  // A height band below the floor holds no plane; one reaching below it holds both.
+  EXPECT_EQ(planeCount(planesWith("below.json", "--min-height -1 --max-height -0.5")), 0u);
+  EXPECT_EQ(planeCount(planesWith("band.json", "--min-height -1 --max-height=0.5")), 2u);
+  EXPECT_EQ(planesWith("band2.json", "--min-height=-1 --max-height 0.5"),
+            planesWith("band.json", "--min-height -1 --max-height=0.5"));
+  // Rotations: a roll of -0.1 rad, given either way, is not one of +0.1 rad.
+  const std::string minus = planesWith("minus.json", "--rpy \"-0.1 0 0\"");
+  EXPECT_EQ(planeCount(minus), 2u);
+  EXPECT_EQ(planesWith("minus2.json", "\"--rpy=-0.1 0 0\""), minus);
+  EXPECT_NE(planesWith("plus.json", "--rpy \"0.1 0 0\""), minus);
+
+  // The same floor and table seen by a sensor whose up is its -x axis: found with the
+  // accelerometer reading "-9.8 0 0", at their heights.
+  LabeledCloud sideways = floorAndTable();
+  for (auto& p : sideways.cloud) p = pcl::PointXYZ(-p.z, p.y, p.x);
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/sideways.pcd", sideways.cloud), 0);
+  const CliRun r = run("--input " + dir_ + "/sideways.pcd --gravity \"-9.8 0 0\" --quiet --json " +
+                       dir_ + "/sideways.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string json = slurp(dir_ + "/sideways.json");
+  ASSERT_EQ(planeCount(json), 2u) << json;
+  std::vector<double> heights;
+  for (std::size_t at = json.find("\"height\": "); at != std::string::npos;
+       at = json.find("\"height\": ", at + 1)) {
+    heights.push_back(std::stod(json.substr(at + 10)));
+  }
+  std::sort(heights.begin(), heights.end());
+  EXPECT_NEAR(heights[0], 0.0, 0.005);
+  EXPECT_NEAR(heights[1], 0.3, 0.005);
+}
+
+TEST_F(Cli, SynthTakesOptionEqualsValueAndNegativeNumbers) {
+  const std::string synth = toolBinary("hope_synth");
+  const CliRun spaced = runTool(synth, "--out " + dir_ + "/spaced --room-scan 0.25");
+  ASSERT_EQ(spaced.exit_code, 0) << spaced.output;
+  const CliRun joined = runTool(synth, "--out=" + dir_ + "/joined --room-scan=0.25");
+  ASSERT_EQ(joined.exit_code, 0) << joined.output;
+  const std::string scan = slurp(dir_ + "/spaced/room_scan.pcd");
+  EXPECT_GT(scan.size(), 1000u);
+  EXPECT_EQ(slurp(dir_ + "/joined/room_scan.pcd"), scan);
+  // A LiDAR scan with every option joined to its value.
+  const CliRun lidar =
+      runTool(synth, "--out=" + dir_ + "/lidar --lidar=vlp16 --scene=room --unorganized");
+  ASSERT_EQ(lidar.exit_code, 0) << lidar.output;
+  EXPECT_NE(lidar.output.find("vlp16 (16 rings"), std::string::npos) << lidar.output;
+  EXPECT_NE(lidar.output.find(", room, "), std::string::npos) << lidar.output;
+  EXPECT_EQ(lidar.output.find("(organized)"), std::string::npos) << lidar.output;
+  // A negative spacing reaches the check of its range, in either form.
+  for (const char* spacing : {"--room-scan -0.5", "--room-scan=-0.5"}) {
+    const CliRun r = runTool(synth, "--out " + dir_ + "/negative " + spacing);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("hope_synth: error: --room-scan spacing must be in [0.001, 1] metres"),
+              std::string::npos)
+        << r.output;
+  }
+}
+
+TEST_F(Cli, TrackEvalTakesOptionEqualsValueAndNegativeNumbers) {
+  const std::string track_eval = toolBinary("hope_track_eval");
+  const CliRun spaced = runTool(track_eval, "--frames 2 --width 160 --sequences pan --r-xy 0.1 " +
+                                                std::string("--markdown ") + dir_ + "/spaced.md");
+  ASSERT_EQ(spaced.exit_code, 0) << spaced.output;
+  const CliRun joined = runTool(track_eval, "--frames=2 --width=160 --sequences=pan --r-xy=0.1 " +
+                                                std::string("--markdown=") + dir_ + "/joined.md");
+  ASSERT_EQ(joined.exit_code, 0) << joined.output;
+  const std::string markdown = slurp(dir_ + "/spaced.md");
+  EXPECT_NE(markdown.find("Sequences (2 frames at 30 Hz, 160 px wide, r_xy 0.1 m, r_z 0.02 m)"),
+            std::string::npos)
+      << markdown;
+  EXPECT_NE(markdown.find("| pan | gravity | improved + merge |"), std::string::npos);
+  EXPECT_EQ(markdown.find("| rpy |"), std::string::npos);
+  EXPECT_EQ(withoutTrackingTimes(slurp(dir_ + "/joined.md")), withoutTrackingTimes(markdown));
+  // A negative resolution reaches the extractor's check, in either form.
+  for (const char* r_xy : {"--r-xy -1", "--r-xy=-1"}) {
+    const CliRun r = runTool(track_eval, std::string("--frames 1 --sequences pan ") + r_xy);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("hope_track_eval: error: parameter r_xy = -1 is out of range"),
+              std::string::npos)
+        << r.output;
+  }
+}
+
+// hope_eval's run takes minutes; where it puts its report shows how it read --out: into a
+// path under a regular file, which cannot be made.
+TEST_F(Cli, EvalTakesOptionEqualsValueAndValuesStartingWithAMinus) {
+  std::ofstream(dir_ + "/blocked") << "a file, not a folder\n";
+  const std::string eval = toolBinary("hope_eval");
+  const CliRun spaced = runTool(eval, "--quick --out " + dir_ + "/blocked/report");
+  EXPECT_EQ(spaced.exit_code, 1) << spaced.output;
+  EXPECT_NE(spaced.output.find("hope_eval: error: "), std::string::npos) << spaced.output;
+  EXPECT_NE(spaced.output.find(dir_ + "/blocked/report/evaluation"), std::string::npos)
+      << spaced.output;
+  const CliRun joined = runTool(eval, "--quick --out=" + dir_ + "/blocked/report");
+  EXPECT_EQ(joined.exit_code, 1) << joined.output;
+  EXPECT_EQ(joined.output, spaced.output);
+  // A relative folder named "-blocked" (run in dir_), given as the next argument.
+  std::ofstream(dir_ + "/-blocked") << "a file, not a folder\n";
+  const CliRun minus = runTool("cd " + dir_ + " && " + eval, "--quick --out -blocked");
+  EXPECT_EQ(minus.exit_code, 1) << minus.output;
+  EXPECT_NE(minus.output.find("[-blocked/evaluation]"), std::string::npos) << minus.output;
 }
 
 }  // namespace test

@@ -2,12 +2,15 @@
 // without overflow, so a hostile message is refused with a reason instead of read out of bounds.
 #include <cstring>
 #include <limits>
+#include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "hope/plane_colors.h"
 #include "hope_ros/cloud_conversion.h"
+#include "hope_ros/frame_gaps.h"
 
 namespace hope {
 namespace test {
@@ -205,3 +208,110 @@ TEST(CloudConversion, RefilledLabeledCloudEqualsAFreshOne) {
 
 }  // namespace test
 }  // namespace hope
+
+// 150 frames at 30 Hz with seq 0 in every header (as tum_to_bag.py and many drivers write),
+// played so that 8 of them never arrive: 8 dropped, though seq says nothing. The stamps carry
+// a camera's jitter (up to a fifth of a period either way).
+TEST(FrameGaps, DropsAreCountedFromTheStampsWhenSeqDoesNotAdvance) {
+  const double period = 1.0 / 30;
+  const std::set<int> lost = {5, 40, 41, 77, 100, 101, 102, 149};
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.2 * period, 0.2 * period);
+  hope_ros::FrameGapCounter gaps;
+  for (int f = 0; f < 150; ++f) {
+    if (!lost.count(f)) gaps.arrive(0, 1305031459.0 + f * period + jitter(random));
+  }
+  // The last frame lost is the last one: nothing after it shows the gap.
+  EXPECT_EQ(gaps.dropped(), lost.size() - 1);
+}
+
+// The same stream without losses: a jittery camera drops nothing.
+TEST(FrameGaps, AJitteryStreamWithoutLossesDropsNothing) {
+  const double period = 1.0 / 30;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jitter(-0.2 * period, 0.2 * period);
+  hope_ros::FrameGapCounter gaps;
+  for (int f = 0; f < 300; ++f) gaps.arrive(0, 100.0 + f * period + jitter(random));
+  EXPECT_EQ(gaps.dropped(), 0u);
+}
+
+// A publisher that numbers its messages: the gaps in seq, whatever the stamps say (here the
+// stamps are all equal, as from a node that stamps with a fixed time).
+TEST(FrameGaps, SeqGapsAreCountedWhenSeqAdvances) {
+  hope_ros::FrameGapCounter gaps;
+  for (std::uint32_t seq : {10u, 11u, 12u, 15u, 16u, 20u}) gaps.arrive(seq, 5.0);
+  EXPECT_EQ(gaps.dropped(), 2u + 3u);
+}
+
+// After restart() (unsubscribed for a while, or a bag that started over) the first frame
+// counts nothing, however far its stamp or seq lies from the last one before.
+TEST(FrameGaps, NothingIsCountedAcrossARestart) {
+  hope_ros::FrameGapCounter gaps;
+  for (int f = 0; f < 10; ++f) gaps.arrive(0, f * 0.1);
+  gaps.restart();
+  EXPECT_EQ(gaps.arrive(0, 100.0), 0u);
+  for (int f = 1; f < 10; ++f) gaps.arrive(0, 100.0 + f * 0.1);
+  EXPECT_EQ(gaps.dropped(), 0u);
+}
+
+namespace {
+
+hope::HorizontalPlane planeAt(int id, double x, double y, double height, double half_size) {
+  hope::HorizontalPlane p;
+  p.id = id;
+  p.height = height;
+  p.centroid = Eigen::Vector3d(x, y, height);
+  p.bbox = {{x - half_size, y - half_size, x + half_size, y + half_size}};
+  p.area = 4 * half_size * half_size;
+  return p;
+}
+
+}  // namespace
+
+// Crowded planes (book and box tops on a table, a few centimetres apart in height and a
+// decimetre apart in x and y) get labels that no view can show on top of each other: any two
+// labels whose texts could overlap horizontally are at least a text height apart vertically.
+// Every label stands clear of its own plane's fill (its text's lower edge above the plane).
+TEST(PlaneMarkers, LabelsOfCrowdedPlanesDoNotOverlapAndStandAboveTheirPlanes) {
+  std::vector<hope::HorizontalPlane> planes = {
+      planeAt(0, 0.0, 0.0, 0.75, 0.8),    // the table
+      planeAt(1, 0.1, 0.05, 0.80, 0.1),   // a book on it
+      planeAt(2, -0.1, 0.1, 0.85, 0.08),  // a box
+      planeAt(3, 0.05, -0.1, 0.82, 0.06),
+      planeAt(4, 3.0, 3.0, 0.75, 0.5),  // far away: no reason to move
+      planeAt(5, 0.0, 0.0, 0.0, 2.0),   // the floor, below the table
+  };
+  const std::vector<Eigen::Vector3d> at = hope_ros::labelPositions(planes);
+  ASSERT_EQ(at.size(), planes.size());
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    EXPECT_GE(at[k].z() - 0.5 * hope_ros::kLabelHeight, planes[k].height + 0.02) << "label " << k;
+    for (std::size_t q = 0; q < k; ++q) {
+      const double width = hope_ros::kLabelCharWidth * 9;  // "1: 0.80 m"
+      const bool near = (at[k].head<2>() - at[q].head<2>()).norm() < width;
+      if (near) {
+        EXPECT_GE(std::fabs(at[k].z() - at[q].z()), hope_ros::kLabelHeight)
+            << "labels " << q << " and " << k;
+      }
+    }
+  }
+  // The far plane's label sits right above it.
+  EXPECT_NEAR(at[4].x(), 3.0, 1e-12);
+  EXPECT_LT(at[4].z(), 0.75 + hope_ros::kLabelHeight);
+  // Crowding raised some labels: four labels within a decimetre were the point of this test.
+  int raised = 0;
+  for (std::size_t k = 0; k < 4; ++k)
+    raised += at[k].z() > planes[k].height + hope_ros::kLabelHeight;
+  EXPECT_GE(raised, 2);
+}
+
+// The view RViz orbits: the middle of the planes' boxes in x and y, halfway between the lowest
+// and the highest plane; none without planes.
+TEST(PlaneMarkers, SceneCentreIsTheMiddleOfWhatThePlanesCover) {
+  EXPECT_FALSE(hope_ros::sceneCentre({}).has_value());
+  const auto centre =
+      hope_ros::sceneCentre({planeAt(0, 0.0, 0.0, 0.0, 2.0), planeAt(1, 5.0, 1.0, 0.8, 0.5)});
+  ASSERT_TRUE(centre.has_value());
+  EXPECT_NEAR(centre->x(), (-2.0 + 5.5) / 2, 1e-12);
+  EXPECT_NEAR(centre->y(), (-2.0 + 2.0) / 2, 1e-12);
+  EXPECT_NEAR(centre->z(), 0.4, 1e-12);
+}

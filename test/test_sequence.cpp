@@ -128,6 +128,52 @@ TEST_F(Sequence, TumFolderWithGroundTruthKeepsTheTableIdAtItsRealHeight) {
   EXPECT_TRUE(std::ifstream(dir_ + "/overlays/1300000000.000000.png").good());
 }
 
+// A folder whose camera is not TUM's (320 pixels wide: half the focal length) carries its
+// intrinsics.txt, and --sequence reads it without being told: the table at its true 0.75 m in
+// every frame, and the run says where the intrinsics came from. Without the file it says that
+// it fell back on TUM freiburg1's.
+TEST_F(Sequence, TheFoldersOwnIntrinsicsAreReadAndNamed) {
+  makeTumSequence();
+  CliRun r = run("--sequence " + dir_ + "/seq --jsonl " + dir_ + "/out.jsonl");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(
+      r.output.find("intrinsics 258.65 258.25 159.3 127.65 from " + dir_ + "/seq/intrinsics.txt"),
+      std::string::npos)
+      << r.output;
+  const auto frames = readJsonLines(dir_ + "/out.jsonl");
+  ASSERT_EQ(frames.size(), 6u);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    EXPECT_GE(idNear(frames[f], 0.75), 0) << "no table at 0.75 m in frame " << f;
+  }
+  // --intrinsics wins, and the run says so.
+  r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("intrinsics 517.3"), std::string::npos) << r.output;
+  r = run("--sequence " + dir_ + "/seq " + intrinsics_);
+  EXPECT_NE(r.output.find("from --intrinsics (not " + dir_ + "/seq/intrinsics.txt)"),
+            std::string::npos)
+      << r.output;
+  std::remove((dir_ + "/seq/intrinsics.txt").c_str());
+  r = run("--sequence " + dir_ + "/seq");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("intrinsics 517.3 516.5 318.6 255.3 from TUM freiburg1's"),
+            std::string::npos)
+      << r.output;
+}
+
+// A malformed intrinsics.txt stops the run with the file named, rather than planes computed
+// with a camera nobody gave.
+TEST_F(Sequence, AMalformedIntrinsicsFileIsAnErrorNamingIt) {
+  makeTumSequence();
+  for (const char* bad : {"585 585 320\n", "585 585 320 240\n585 585 320 240\n", "0 585 320 240\n",
+                          "585 585 320 240 7\n"}) {
+    std::ofstream(dir_ + "/seq/intrinsics.txt") << bad;
+    const CliRun r = run("--sequence " + dir_ + "/seq");
+    EXPECT_EQ(r.exit_code, 1) << bad << r.output;
+    EXPECT_NE(r.output.find(dir_ + "/seq/intrinsics.txt"), std::string::npos) << bad << r.output;
+  }
+}
+
 TEST_F(Sequence, AccelerometerGivesHeightsRelativeToTheCamera) {
   makeTumSequence();
   const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --accelerometer " + dir_ +

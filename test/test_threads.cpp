@@ -2,8 +2,14 @@
 // depend on it. Each scene is extracted with 1, 2 and 3 threads (3: shares that do not divide
 // evenly) and every plane field, every hull vertex and every point label must be identical.
 // Also the in-place read of a z-up cloud against the aligned copy (NoCopy).
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <mutex>
+#include <set>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -14,6 +20,8 @@
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
 #include "scene_inputs.h"
+// The pool is private to the core library; its behaviour is tested here directly.
+#include "../src/core/worker_pool.h"
 
 namespace hope {
 namespace test {
@@ -152,3 +160,110 @@ TEST(NoCopy, ZUpCloudIsReadInPlaceWithTheSameResultAsTheAlignedCopy) {
 
 }  // namespace test
 }  // namespace hope
+
+// The pool runs every task exactly once, whatever the number of helpers asked for.
+TEST(WorkerPool, RunsEveryTaskExactlyOnce) {
+  hope::parallel::WorkerPool& pool = hope::parallel::WorkerPool::shared();
+  for (int helpers : {0, 1}) {
+    for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{1000}}) {
+      std::vector<std::atomic<int>> runs(count);
+      pool.run(count, helpers, [&](std::size_t i) { runs[i].fetch_add(1); });
+      for (std::size_t i = 0; i < count; ++i) {
+        ASSERT_EQ(runs[i].load(), 1) << "task " << i << " of " << count << ", helpers " << helpers;
+      }
+    }
+  }
+}
+
+// Two tasks that can only finish together (each waits for the other to have started) finish:
+// with one helper the two run on two threads at once.
+TEST(WorkerPool, OneHelperRunsATaskBesideTheCaller) {
+  std::atomic<int> started{0};
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  hope::parallel::WorkerPool::shared().run(2, 1, [&](std::size_t) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      threads.insert(std::this_thread::get_id());
+    }
+    started.fetch_add(1);
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (started.load() < 2 && std::chrono::steady_clock::now() < give_up) {
+      std::this_thread::yield();
+    }
+  });
+  EXPECT_EQ(started.load(), 2);
+  EXPECT_EQ(threads.size(), 2u);
+}
+
+// The caller never waits for a helper to start: while the only helper is held up (here: held
+// inside the one task it claimed, as a helper the scheduler does not run is), the caller runs
+// every other task itself, and the job ends as soon as the held task does.
+TEST(WorkerPool, TheCallerRunsEveryTaskNoHelperHasStarted) {
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int> by_caller{0}, by_helper{0};
+  std::atomic<bool> release{false};
+  std::atomic<int> done{0};
+  const std::size_t count = 200;
+  std::thread releaser([&] {
+    // Lets the held task go once the caller has run every other task.
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (done.load() < static_cast<int>(count) - 1 &&
+           std::chrono::steady_clock::now() < give_up) {
+      std::this_thread::yield();
+    }
+    release = true;
+  });
+  hope::parallel::WorkerPool::shared().run(count, 1, [&](std::size_t) {
+    if (std::this_thread::get_id() == caller) {
+      by_caller.fetch_add(1);
+    } else {
+      by_helper.fetch_add(1);
+      // The helper holds its first task until the caller has done all the others.
+      while (!release.load()) std::this_thread::yield();
+    }
+    done.fetch_add(1);
+  });
+  releaser.join();
+  EXPECT_EQ(done.load(), static_cast<int>(count));
+  // The helper took at most the one task it was held in (none if it woke late).
+  EXPECT_LE(by_helper.load(), 1);
+  EXPECT_GE(by_caller.load(), static_cast<int>(count) - 1);
+}
+
+// A job asked for while another thread's job runs (two extractors on two threads, or a task
+// that splits its own work) runs on its caller alone, at once: callers never wait for each other.
+TEST(WorkerPool, ANestedJobRunsOnItsCaller) {
+  hope::parallel::WorkerPool& pool = hope::parallel::WorkerPool::shared();
+  std::atomic<int> inner_runs{0};
+  std::atomic<bool> inner_on_one_thread{true};
+  pool.run(4, 1, [&](std::size_t) {
+    const std::thread::id outer = std::this_thread::get_id();
+    pool.run(8, 1, [&](std::size_t) {
+      inner_runs.fetch_add(1);
+      if (std::this_thread::get_id() != outer) inner_on_one_thread = false;
+    });
+  });
+  EXPECT_EQ(inner_runs.load(), 32);
+  EXPECT_TRUE(inner_on_one_thread.load());
+}
+
+// More threads asked for than there are cores start no more helpers than cores: a request for
+// 1024 threads (the parameter's limit) must not start a thousand threads. The planes are the
+// same (the shares are still 1024).
+TEST(WorkerPool, NoMoreHelpersThanCores) {
+  const hope::synthetic::Scene scene = hope::synthetic::demoRoom();
+  const auto scan = scene.scanFromAbove(-1.0, -3.0, 5.0, 3.0, 0.01, 0.0);
+  hope::Params one, many;
+  many.threads = 1024;
+  const hope::Result a = hope::Extractor(one).extract(scan.cloud, hope::Orientation::identity());
+  const hope::Result b = hope::Extractor(many).extract(scan.cloud, hope::Orientation::identity());
+  ASSERT_EQ(a.planes.size(), b.planes.size());
+  for (std::size_t k = 0; k < a.planes.size(); ++k) {
+    EXPECT_EQ(a.planes[k].height, b.planes[k].height);
+    EXPECT_EQ(a.planes[k].num_points, b.planes[k].num_points);
+  }
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  // (A test above asks the pool itself for one helper, which a one-core machine also starts.)
+  EXPECT_LE(hope::parallel::WorkerPool::shared().startedThreads(), std::max(1u, cores - 1));
+}

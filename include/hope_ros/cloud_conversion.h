@@ -2,7 +2,9 @@
 // and hope's results as messages.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -39,8 +41,23 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
                       const hope::PointsView& input, const std_msgs::Header& header,
                       sensor_msgs::PointCloud2& out);
 
+// Where planeMarkers puts each plane's "id: height" label (same order as `planes`): above
+// its centroid, high enough that the text stands clear of the plane's fill (RViz hides text
+// behind a fill it crosses), and raised further above any label placed before it (larger
+// planes first) whose text it could overlap from some point of view, so that labels of
+// crowded planes stack instead of covering each other.
+std::vector<Eigen::Vector3d> labelPositions(const std::vector<hope::HorizontalPlane>& planes);
+// The labels' text height in metres, and the width allowed per character.
+constexpr double kLabelHeight = 0.12;
+constexpr double kLabelCharWidth = 0.6 * kLabelHeight;
+
+// The middle of what the planes cover (their boxes' union in x and y, halfway between the
+// lowest and the highest plane in z), or nullopt without planes: where RViz's view should
+// look (the nodelet broadcasts it as the frame `view_frame`, which rviz/hope.rviz orbits).
+std::optional<Eigen::Vector3d> sceneCentre(const std::vector<hope::HorizontalPlane>& planes);
+
 // For RViz: a DELETEALL first (no stale markers), then per plane its hull filled and outlined
-// in its id's Pascal VOC colour and a text "id: height".
+// in its id's Pascal VOC colour and a text "id: height" (at labelPositions).
 visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
                                              const std_msgs::Header& header);
 

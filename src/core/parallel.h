@@ -1,28 +1,29 @@
-// The passes over points and voxels split across threads (OpenMP) so that the result does not
-// depend on the number of threads: each thread takes a contiguous share of the indices, works
-// only on what it owns, and whatever the shares add up is combined afterwards in share order.
-// Private to the core library.
+// The passes over points and voxels split across threads so that the result does not depend
+// on the number of threads: the indices are cut into contiguous shares, each share is worked
+// on by one thread and touches only what it owns, and whatever the shares add up is combined
+// afterwards in share order. The threads are worker_pool.h's: helpers that sleep when idle
+// and a caller that runs every share no helper has started, so more threads never cost a
+// loaded machine more than their wake-ups. Private to the core library.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
+#include <thread>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "worker_pool.h"
 
 namespace hope {
 namespace parallel {
 
+// The number of cores, at least 1.
+inline int cores() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
 // The number of threads for Params::threads: 0 means every core.
-inline int resolve(int requested) {
-#ifdef _OPENMP
-  return requested > 0 ? requested : std::max(1, omp_get_num_procs());
-#else
-  (void)requested;
-  return 1;
-#endif
-}
+inline int resolve(int requested) { return requested > 0 ? requested : cores(); }
+
+// Pool helpers for `shares` shares: one share is the caller's, and more threads than cores
+// would only take turns (a request for more shares still gets them, run by fewer threads).
+inline int helpersFor(int shares) { return std::min(shares, cores()) - 1; }
 
 // Calls body(share, begin, end) for `shares` contiguous shares of [0, n), in parallel on up
 // to `threads` threads. Below `min_per_share` items per share fewer shares are used (down to
@@ -35,30 +36,22 @@ int forShares(std::size_t n, int threads, std::size_t min_per_share, Body body) 
     body(0, std::size_t{0}, n);
     return 1;
   }
-#ifdef _OPENMP
-#pragma omp parallel for num_threads(shares) schedule(static, 1)
-#endif
-  for (int s = 0; s < shares; ++s) {
-    body(s, n * static_cast<std::size_t>(s) / static_cast<std::size_t>(shares),
-         n * static_cast<std::size_t>(s + 1) / static_cast<std::size_t>(shares));
-  }
+  const auto share = static_cast<std::size_t>(shares);
+  WorkerPool::shared().run(share, helpersFor(shares), [&](std::size_t s) {
+    body(static_cast<int>(s), n * s / share, n * (s + 1) / share);
+  });
   return shares;
 }
 
-// Calls body(i) for each i in [0, n) on up to `threads` threads, items handed out in small
-// chunks (for work whose cost varies from item to item, like planes of different sizes).
+// Calls body(i) for each i in [0, n) on up to `threads` threads, items handed out one at a time
+// (for work whose cost varies from item to item, like planes of different sizes).
 template <class Body>
 void forEach(std::size_t n, int threads, Body body) {
   if (threads <= 1 || n <= 1) {
     for (std::size_t i = 0; i < n; ++i) body(i);
     return;
   }
-#ifdef _OPENMP
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-#endif
-  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(n); ++i) {
-    body(static_cast<std::size_t>(i));
-  }
+  WorkerPool::shared().run(n, helpersFor(threads), [&](std::size_t i) { body(i); });
 }
 
 }  // namespace parallel

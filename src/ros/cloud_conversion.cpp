@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -220,15 +221,83 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
   }
 }
 
+namespace {
+
+std::string labelOf(const hope::HorizontalPlane& p) {
+  // "id: height": RViz's font has no middle dot.
+  char label[64];
+  std::snprintf(label, sizeof(label), "%d: %.2f m", p.id, p.height);
+  return label;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> labelPositions(const std::vector<hope::HorizontalPlane>& planes) {
+  // The text faces the camera: seen from the side its lower half reaches half a text height
+  // below its centre, so the centre goes that and a margin above the plane.
+  constexpr double kLift = 0.5 * kLabelHeight + 0.04;
+  // Two labels may overlap on screen when their texts come closer horizontally than half
+  // their widths added (from some direction) and vertically than a text height and a gap.
+  constexpr double kRowHeight = 1.25 * kLabelHeight;
+  std::vector<std::size_t> order(planes.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return planes[a].area > planes[b].area; });
+  std::vector<Eigen::Vector3d> positions(planes.size());
+  std::vector<double> half_widths(planes.size());
+  std::vector<std::size_t> placed;
+  for (std::size_t k : order) {
+    const hope::HorizontalPlane& p = planes[k];
+    half_widths[k] = 0.5 * kLabelCharWidth * static_cast<double>(labelOf(p).size());
+    Eigen::Vector3d at = p.centroid;
+    at.z() = p.height + kLift;
+    // Raise past every placed label it could cover; each raise may meet another one, so look
+    // again until none is in the way (the height only grows: at most one raise per label).
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (std::size_t q : placed) {
+        const bool near =
+            (at.head<2>() - positions[q].head<2>()).norm() < half_widths[k] + half_widths[q];
+        const double above = positions[q].z() + kRowHeight;
+        // (above > at.z(): rounding must not make a raise to the same height look like one.)
+        if (near && std::fabs(at.z() - positions[q].z()) < kRowHeight && above > at.z()) {
+          at.z() = above;
+          moved = true;
+        }
+      }
+    }
+    positions[k] = at;
+    placed.push_back(k);
+  }
+  return positions;
+}
+
+std::optional<Eigen::Vector3d> sceneCentre(const std::vector<hope::HorizontalPlane>& planes) {
+  if (planes.empty()) return std::nullopt;
+  double x0 = planes[0].bbox[0], y0 = planes[0].bbox[1], x1 = planes[0].bbox[2],
+         y1 = planes[0].bbox[3], z0 = planes[0].height, z1 = planes[0].height;
+  for (const hope::HorizontalPlane& p : planes) {
+    x0 = std::min(x0, p.bbox[0]);
+    y0 = std::min(y0, p.bbox[1]);
+    x1 = std::max(x1, p.bbox[2]);
+    y1 = std::max(y1, p.bbox[3]);
+    z0 = std::min(z0, p.height);
+    z1 = std::max(z1, p.height);
+  }
+  return Eigen::Vector3d(0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (z0 + z1));
+}
+
 visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
                                              const std_msgs::Header& header) {
+  const std::vector<Eigen::Vector3d> label_at = labelPositions(result.planes);
   visualization_msgs::MarkerArray markers;
   visualization_msgs::Marker clear;
   clear.header = header;
   clear.ns = "hope";
   clear.action = visualization_msgs::Marker::DELETEALL;
   markers.markers.push_back(clear);
-  for (const hope::HorizontalPlane& p : result.planes) {
+  for (std::size_t k = 0; k < result.planes.size(); ++k) {
+    const hope::HorizontalPlane& p = result.planes[k];
     visualization_msgs::Marker base;
     base.header = header;
     base.ns = "hope";
@@ -283,13 +352,10 @@ visualization_msgs::MarkerArray planeMarkers(const hope::Result& result,
     visualization_msgs::Marker text = base;
     text.id = 3 * p.id + 2;
     text.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    text.pose.position = point(p.centroid + Eigen::Vector3d(0, 0, 0.05));
-    text.scale.z = 0.12;
+    text.pose.position = point(label_at[k]);
+    text.scale.z = kLabelHeight;
     text.color.r = text.color.g = text.color.b = text.color.a = 1.0f;  // readable on any plane
-    // "id: height": RViz's font has no middle dot.
-    char label[64];
-    std::snprintf(label, sizeof(label), "%d: %.2f m", p.id, p.height);
-    text.text = label;
+    text.text = labelOf(p);
     markers.markers.push_back(text);
   }
   return markers;

@@ -1,9 +1,11 @@
 // The hope nodelet: a thin adapter between ROS topics and the ROS-free core. Point cloud (and
 // IMU or tf) in; PlaneArray, labeled cloud and RViz markers out, in the reference frame.
+#include <atomic>
 #include <chrono>
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
@@ -29,6 +31,7 @@
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope_ros/cloud_conversion.h"
+#include "hope_ros/frame_gaps.h"
 
 namespace hope_ros {
 
@@ -39,10 +42,11 @@ std::string frameId(const std::string& frame) {
 
 // "<node name>_gravity" with the namespace's slashes as underscores: /hope → hope_gravity,
 // /camera/hope → camera_hope_gravity.
-std::string defaultReferenceFrame(const std::string& node_name) {
+// A frame of this nodelet's own: "<node name>_<suffix>" ("hope" → hope_gravity, hope_view).
+std::string ownFrame(const std::string& node_name, const char* suffix) {
   std::string frame = frameId(node_name);
   for (char& c : frame) c = c == '/' ? '_' : c;
-  return (frame.empty() ? std::string("hope") : frame) + "_gravity";
+  return (frame.empty() ? std::string("hope") : frame) + "_" + suffix;
 }
 
 using CloudImuPolicy =
@@ -62,6 +66,9 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // has one parent in tf; the cloud's frame usually has its own already).
   void broadcastReference(const std_msgs::Header& cloud_header,
                           const hope::Orientation& orientation);
+  // Broadcasts view_frame_ (level, under the reference frame) at the middle of what the planes
+  // cover, eased from frame to frame: rviz/hope.rviz orbits it, so RViz frames any scene.
+  void broadcastView(const hope::Result& result, const std_msgs::Header& header);
   // Counts sequence gaps (frames dropped before they reached hope) and notices time jumping
   // back (a looping bag): then the plane tracks and the gravity average start afresh.
   void noteArrival(const sensor_msgs::PointCloud2& cloud);
@@ -78,6 +85,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::string source_;           // imu, tf, fixed or none
   std::string reference_frame_;  // output frame (tf: looked up; imu/fixed: broadcast)
   bool lazy_ = true;
+  std::string view_frame_;  // empty: not broadcast
+  std::optional<Eigen::Vector3d> view_centre_;
   int gravity_window_ = 10;
   hope::Orientation fixed_ = hope::Orientation::identity();
 
@@ -99,7 +108,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Subscriber<sensor_msgs::Imu>> sync_imu_sub_;
   std::unique_ptr<message_filters::Synchronizer<CloudImuPolicy>> sync_;
   std::mutex connection_mutex_;
-  bool subscribed_ = false;
+  std::atomic<bool> subscribed_{false};  // read by the diagnostics without the mutex
+  std::string cloud_topic_;              // resolved, for messages
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -123,11 +133,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   std::mutex stats_mutex_;
-  std::size_t frames_ = 0, rejected_ = 0, dropped_ = 0, rejected_since_update_ = 0;
+  std::size_t frames_ = 0, rejected_ = 0, rejected_since_update_ = 0;
   std::size_t time_jumps_ = 0;
   double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
-  std::uint32_t last_seq_ = 0;
-  bool have_seq_ = false;
+  hope_ros::FrameGapCounter gaps_;  // frames that never reached hope
   std::string last_problem_;
   ros::WallTimer diagnostics_timer_;
 };
@@ -148,6 +157,10 @@ void PlaneExtractorNodelet::onInit() {
   pnh.param("cloud_queue", cloud_queue_, 3);
   cloud_queue_ = std::max(1, std::min(cloud_queue_, 100));
   pnh.param("lazy", lazy_, true);
+  pnh.param<std::string>("view_frame", view_frame_, "");
+  view_frame_ = view_frame_.empty()     ? ownFrame(getName(), "view")
+                : view_frame_ == "none" ? std::string()
+                                        : frameId(view_frame_);
   pnh.param("gravity_window", gravity_window_, 10);
   if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "none") {
     NODELET_ERROR("orientation_source '%s' is not one of imu, tf, fixed, none; using none",
@@ -163,7 +176,7 @@ void PlaneExtractorNodelet::onInit() {
   if ((source_ == "imu" || source_ == "fixed") && reference_frame_.empty()) {
     // Broadcast: z up, origin at the sensor. Named after this nodelet, so two hope nodelets
     // never broadcast one frame under two parents ("hope" → hope_gravity).
-    reference_frame_ = defaultReferenceFrame(getName());
+    reference_frame_ = ownFrame(getName(), "gravity");
   }
   if (source_ == "fixed") {
     std::vector<double> q, rpy;
@@ -208,18 +221,24 @@ void PlaneExtractorNodelet::onInit() {
     tf_watch_sub_ = nh.subscribe("/tf", 100, &PlaneExtractorNodelet::onTf, this);
   }
 
+  cloud_topic_ = pnh.resolveName("cloud");
   const ros::SubscriberStatusCallback changed =
       boost::bind(&PlaneExtractorNodelet::connectionChanged, this);
   {
     // Held while advertising: a listener connecting now waits until the publishers exist.
     std::lock_guard<std::mutex> lock(connection_mutex_);
-    planes_pub_ = pnh.advertise<hope::PlaneArray>("planes", 1, changed, changed);
-    cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 1, changed, changed);
-    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 1, changed, changed);
+    // Queues of 10 (3 for the ~6 MB labeled clouds): a subscriber in another process that
+    // falls behind for a moment (rosbag record on a busy machine) loses no frame; a queue of
+    // 1 lost 5 of 8 frames of a recording while the compiler kept both cores busy.
+    planes_pub_ = pnh.advertise<hope::PlaneArray>("planes", 10, changed, changed);
+    cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 3, changed, changed);
+    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 10, changed, changed);
   }
   NODELET_INFO("hope: orientation from %s, reference frame '%s', %s", source_.c_str(),
                reference_frame_.c_str(),
-               lazy_ ? "subscribing while outputs have listeners" : "always subscribed");
+               lazy_ ? "lazy: subscribing to the cloud only while an output has a listener "
+                       "(lazy: false processes every cloud)"
+                     : "always subscribed");
   if (!lazy_) connectionChanged();
 }
 
@@ -260,19 +279,17 @@ void PlaneExtractorNodelet::connectionChanged() {
     sync_imu_sub_.reset();
     cloud_sub_.shutdown();
     std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    have_seq_ = false;  // a pause is not a drop
+    gaps_.restart();  // a pause is not a drop
   }
   subscribed_ = wanted;
+  NODELET_INFO("hope: %s %s", wanted ? "subscribed to" : "unsubscribed from (no listener left)",
+               cloud_topic_.c_str());
 }
 
 void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    if (have_seq_ && cloud.header.seq > last_seq_ + 1) {
-      dropped_ += cloud.header.seq - last_seq_ - 1;
-    }
-    last_seq_ = cloud.header.seq;
-    have_seq_ = true;
+    gaps_.arrive(cloud.header.seq, cloud.header.stamp.toSec());
   }
   // A cloud older than the last one: a bag started over (or a clock was reset); one topic's
   // stamps never go back otherwise. Tracks and the gravity average belong to another time
@@ -285,9 +302,10 @@ void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
                           (last_stamp_ - stamp).toSec());
     std::lock_guard<std::mutex> lock(processing_mutex_);
     tracker_->reset();
+    view_centre_.reset();
     recent_gravity_.clear();
     std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    have_seq_ = false;
+    gaps_.restart();
     ++time_jumps_;
   }
   last_stamp_ = stamp;
@@ -347,6 +365,24 @@ void PlaneExtractorNodelet::broadcastReference(const std_msgs::Header& cloud_hea
     std::lock_guard<std::mutex> lock(stats_mutex_);
     broadcast_parent_ = t.header.frame_id;
   }
+  tf_broadcaster_->sendTransform(t);
+}
+
+void PlaneExtractorNodelet::broadcastView(const hope::Result& result,
+                                          const std_msgs::Header& header) {
+  const std::optional<Eigen::Vector3d> centre = sceneCentre(result.planes);
+  if (!centre) return;  // nothing to look at: the view stays where it was
+  // A fifth of the way per frame: the view follows a panning camera without shaking.
+  view_centre_ =
+      view_centre_ ? Eigen::Vector3d(*view_centre_ + 0.2 * (*centre - *view_centre_)) : *centre;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = header.stamp;
+  t.header.frame_id = header.frame_id;
+  t.child_frame_id = view_frame_;
+  t.transform.translation.x = view_centre_->x();
+  t.transform.translation.y = view_centre_->y();
+  t.transform.translation.z = view_centre_->z();
+  t.transform.rotation.w = 1.0;
   tf_broadcaster_->sendTransform(t);
 }
 
@@ -489,6 +525,7 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     markers_pub_.publish(
         boost::make_shared<visualization_msgs::MarkerArray>(planeMarkers(result, header)));
   }
+  if (!view_frame_.empty()) broadcastView(result, header);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard<std::mutex> stats_lock(stats_mutex_);
@@ -548,9 +585,12 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
 void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   if (frames_ == 0) {
-    status.summary(
-        diagnostic_msgs::DiagnosticStatus::WARN,
-        rejected_ ? "no frame processed; last problem: " + last_problem_ : "waiting for clouds");
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   rejected_ ? "no frame processed; last problem: " + last_problem_
+                   : subscribed_
+                       ? "waiting for clouds on " + cloud_topic_
+                       : "idle: lazy, and no one listens to planes, labeled_cloud or markers "
+                         "(set lazy: false to process every cloud regardless)");
   } else if (rejected_since_update_ > 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                    std::to_string(rejected_since_update_) +
@@ -561,7 +601,7 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
   rejected_since_update_ = 0;
   status.add("frames processed", frames_);
   status.add("frames rejected", rejected_);
-  status.add("frames dropped (sequence gaps)", dropped_);
+  status.add("frames dropped (gaps in seq, or in the stamps)", gaps_.dropped());
   status.add("time jumps back (tracks restarted)", time_jumps_);
   status.add("last processing ms", last_ms_);
   status.add("mean processing ms", frames_ ? sum_ms_ / frames_ : 0.0);

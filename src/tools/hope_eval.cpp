@@ -30,14 +30,22 @@ namespace {
 
 using hope::evaluation::HooverScores;
 
-const char* kUsage = R"(usage: hope_eval [--out DIR] [--data DIR] [--quick]
-
-Reproduces the paper's evaluation on synthetic scenes with exact ground truth and writes
-DIR/evaluation.md plus pictures in DIR/evaluation/ (default DIR: docs). --quick uses smaller
-inputs (for a smoke test); the committed report is made without it. The real scenes are read
-from --data DIR (default: $HOPE_SHARED_DATA, else ../shared/data); their section says so when
-they are absent.
-)";
+// Every option of hope_eval, grouped as the help shows them.
+hope::tools::CommandLine commandLine() {
+  hope::tools::CommandLine cl(
+      "hope_eval", {"[--out DIR] [--data DIR] [--quick]"},
+      "Reproduces the paper's evaluation on synthetic scenes with exact ground truth and writes "
+      "DIR/evaluation.md plus pictures in DIR/evaluation/.");
+  cl.section("files")
+      .value("--out", "DIR", "where evaluation.md and evaluation/ go (default: docs)")
+      .value("--data", "DIR",
+             "the real scenes are read from there (default: $HOPE_SHARED_DATA, else "
+             "../shared/data); their section says so when they are absent");
+  cl.section("run").flag("--quick",
+                         "smaller inputs (for a smoke test); the committed report is made without "
+                         "it");
+  return cl;
+}
 
 // One input: z-up points (organized or not) and the ground-truth face of each point.
 struct Input {
@@ -328,25 +336,18 @@ bool lidarSection(std::ostringstream& md, const std::string& out_dir, const std:
 }
 
 int run(int argc, char** argv) {
-  std::string out_dir = "docs";
-  bool quick = false;
-  const char* data_env = std::getenv("HOPE_SHARED_DATA");
-  std::string data_dir = data_env && *data_env ? data_env : "../shared/data";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (arg == "--out" && i + 1 < argc) {
-      out_dir = argv[++i];
-    } else if (arg == "--data" && i + 1 < argc) {
-      data_dir = argv[++i];
-    } else if (arg == "--quick") {
-      quick = true;
-    } else {
-      throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
-    }
+  const hope::tools::CommandLine command_line = commandLine();
+  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
+  if (args.help) {
+    std::cout << command_line.help();
+    return 0;
   }
+  const std::string out_dir = args.values.count("--out") ? args.values.at("--out") : "docs";
+  const bool quick = args.flag("--quick");
+  const char* data_env = std::getenv("HOPE_SHARED_DATA");
+  const std::string data_dir = args.values.count("--data") ? args.values.at("--data")
+                               : data_env && *data_env     ? data_env
+                                                           : "../shared/data";
   namespace fs = std::filesystem;
   fs::create_directories(fs::path(out_dir) / "evaluation");
   using namespace hope::synthetic;

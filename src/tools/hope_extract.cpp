@@ -27,75 +27,92 @@
 
 namespace {
 
-const char* kUsage =
-    R"(usage: hope_extract (--input FILE.pcd|.ply | --depth FILE.png [--rgb FILE.png]) [options]
-       hope_extract --sequence DIR [--groundtruth FILE | --accelerometer FILE] [options]
-
-Finds the horizontal planes of one cloud (HoPE, Dong et al. 2018), or of every frame of a
-sequence, with plane ids kept across frames.
-
-input
-  --input FILE           point cloud, .pcd or .ply, fields x y z in metres (rgb optional)
-  --depth FILE           depth image: 16-bit PNG (raw units) or 32-bit float (metres)
-  --rgb FILE             colour image registered to the depth image (for the overlay)
-  --intrinsics "fx fy cx cy"   pinhole intrinsics in pixels (default: TUM freiburg1,
-                         517.3 516.5 318.6 255.3)
-  --depth-scale S        raw depth units per metre (default 5000, TUM; OpenNI: 1000)
-
-orientation of the sensor in the reference frame (z up); at most one, default: none
-  --pose "tx ty tz qx qy qz qw"   full pose, e.g. a TUM ground-truth line (heights are real)
-  --quaternion "qx qy qz qw"      rotation only (normalized; zero/NaN rejected)
-  --rpy "roll pitch yaw"          radians, fixed axes x, y, z (R = Rz Ry Rx)
-  --gravity "gx gy gz"            accelerometer at rest in the sensor frame (points UP)
-  --viewpoint "x y z"             where the sensor was, in the reference frame (default: the
-                         pose's translation; the origin for a rotation or a depth image;
-                         unknown for a cloud without orientation). The fragment merge uses it
-                         to tell shadows from gaps, the scan-gap bridging to find a LiDAR's
-                         next ring; each plane's facing (up/down) needs it. A LiDAR scan in
-                         its own z-up frame: --viewpoint "0 0 0"
-
-sequences
-  --sequence DIR         a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of
-                         .pcd files named by timestamp (or sorted by name)
-  --groundtruth FILE     TUM poses "timestamp tx ty tz qx qy qz qw" (default DIR/groundtruth.txt);
-                         each frame takes the pose nearest in time; heights are real heights
-  --accelerometer FILE   TUM accelerometer.txt "timestamp ax ay az" (m/s^2, optical frame,
-                         pointing up at rest): gravity only, heights relative to the camera
-  (or one fixed --pose/--quaternion/--rpy/--gravity for every frame)
-  --max-time-difference S  largest frame-to-orientation gap (default 0.02 s); frames
-                         without an orientation that close are skipped and counted
-  --tracking MODE        improved (default) or paper (NNPM of §2.5, Eq 11-14)
-  --jsonl FILE           one JSON line per frame: {"stamp", "file", "planes": [...], "events"}
-  --overlay-dir DIR      one overlay PNG per frame, named by stamp
-
-parameters
-  --r-xy M               grid resolution in xy, metres (default 0.05)
-  --r-z M                grid resolution in z, metres (default 0.02); slopes steeper than
-                         atan(r_z / r_xy) are rejected
-  --min-height M, --max-height M  keep planes inside this height band
-  --min-area M2          keep planes of at least this footprint
-  --no-merge             one plane per connected region, as in the paper (default: fragments
-                         of one surface cut apart by clutter or occlusion are merged)
-  --max-merge-gap M      widest gap the fragment merge bridges (default 1.0 m)
-  --no-bridge            no scan-gap bridging, as in the paper (default: voxels between a
-                         LiDAR's sparse rings take their normal from the next ring along the
-                         sensor's ray; needs the viewpoint). LiDAR: --r-xy 0.3 --r-z 0.1
-  --threads N            threads for the passes over points and voxels (default 0: every
-                         core; the planes are the same for any number)
-  --repeat N             extract N times from the loaded input and print the first (cold)
-                         call's time and the median of the others (steady state, as in a
-                         node that keeps its buffers); outputs are from the last call
-  --max-points N         refuse files claiming more points (default 100000000), so a
-                         corrupt header cannot make hope allocate gigabytes
-
-output (each written under a temporary name and renamed when complete: a failed run
-leaves no partial file)
-  --json FILE            every plane field as JSON
-  --labels FILE.pcd      x y z label per input point, same order (0 = none, k = id + 1)
-  --overlay FILE.png     picture: tinted image for image-like input, top-down view otherwise
-  --quiet                no table on stdout
-  --help
-)";
+// Every option of hope_extract, grouped as the help shows them.
+hope::tools::CommandLine commandLine() {
+  hope::tools::CommandLine cl(
+      "hope_extract",
+      {"(--input FILE.pcd|.ply | --depth FILE.png [--rgb FILE.png]) [options]",
+       "--sequence DIR [--groundtruth FILE | --accelerometer FILE] [options]"},
+      "Finds the horizontal planes of one cloud (HoPE, Dong et al. 2018), or of every frame of "
+      "a sequence, with plane ids kept across frames.");
+  cl.section("input")
+      .value("--input", "FILE", "point cloud, .pcd or .ply, fields x y z in metres (rgb optional)")
+      .value("--depth", "FILE", "depth image: 16-bit PNG (raw units) or 32-bit float (metres)")
+      .value("--rgb", "FILE", "colour image registered to the depth image (for the overlay)")
+      .value("--intrinsics", "\"fx fy cx cy\"",
+             "pinhole intrinsics in pixels (default: with --sequence the folder's "
+             "intrinsics.txt when it has one; otherwise TUM freiburg1, 517.3 516.5 318.6 255.3)")
+      .value("--depth-scale", "S", "raw depth units per metre (default 5000, TUM; OpenNI: 1000)");
+  cl.section("orientation",
+             "of the sensor in the reference frame (z up): at most one of --pose, --quaternion, "
+             "--rpy, --gravity; default: none")
+      .value("--pose", "\"tx ty tz qx qy qz qw\"",
+             "full pose, e.g. a TUM ground-truth line (heights are real)")
+      .value("--quaternion", "\"qx qy qz qw\"", "rotation only (normalized; zero/NaN rejected)")
+      .value("--rpy", "\"roll pitch yaw\"", "radians, fixed axes x, y, z (R = Rz Ry Rx)")
+      .value("--gravity", "\"gx gy gz\"", "accelerometer at rest in the sensor frame (points UP)")
+      .value("--viewpoint", "\"x y z\"",
+             "where the sensor was, in the reference frame (default: the pose's translation; "
+             "the origin for a rotation or a depth image; unknown for a cloud without "
+             "orientation). The fragment merge uses it to tell shadows from gaps, the scan-gap "
+             "bridging to find a LiDAR's next ring; each plane's facing (up/down) needs it. A "
+             "LiDAR scan in its own z-up frame: --viewpoint \"0 0 0\"");
+  cl.section("sequences",
+             "each frame's orientation from --groundtruth (the default) or --accelerometer, or "
+             "one fixed --pose/--quaternion/--rpy/--gravity for every frame")
+      .value("--sequence", "DIR",
+             "a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of .pcd files named "
+             "by timestamp (or sorted by name)")
+      .value("--groundtruth", "FILE",
+             "TUM poses \"timestamp tx ty tz qx qy qz qw\" (default DIR/groundtruth.txt); each "
+             "frame takes the pose nearest in time; heights are real heights")
+      .value("--accelerometer", "FILE",
+             "TUM accelerometer.txt \"timestamp ax ay az\" (m/s^2, optical frame, pointing up at "
+             "rest): gravity only, heights relative to the camera")
+      .value("--max-time-difference", "S",
+             "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
+             "that close are skipped and counted")
+      .value("--tracking", "MODE", "improved (default) or paper (NNPM of §2.5, Eq 11-14)")
+      .value("--jsonl", "FILE",
+             "one JSON line per frame: {\"stamp\", \"file\", \"planes\": [...], \"events\"}")
+      .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp");
+  cl.section("parameters")
+      .value("--r-xy", "M", "grid resolution in xy, metres (default 0.05)")
+      .value("--r-z", "M",
+             "grid resolution in z, metres (default 0.02); slopes steeper than atan(r_z / r_xy) "
+             "are rejected")
+      .value("--min-height", "M", "keep planes inside this height band: its lower end")
+      .value("--max-height", "M", "keep planes inside this height band: its upper end")
+      .value("--min-area", "M2", "keep planes of at least this footprint")
+      .flag("--no-merge",
+            "one plane per connected region, as in the paper (default: fragments of one surface "
+            "cut apart by clutter or occlusion are merged)")
+      .value("--max-merge-gap", "M", "widest gap the fragment merge bridges (default 1.0 m)")
+      .flag("--no-bridge",
+            "no scan-gap bridging, as in the paper (default: voxels between a LiDAR's sparse "
+            "rings take their normal from the next ring along the sensor's ray; needs the "
+            "viewpoint). LiDAR: --r-xy 0.3 --r-z 0.1")
+      .value("--threads", "N",
+             "threads for the passes over points and voxels (default 0: every core; the planes "
+             "are the same for any number)")
+      .value("--repeat", "N",
+             "extract N times from the loaded input and print the first (cold) call's time and "
+             "the median of the others (steady state, as in a node that keeps its buffers); "
+             "outputs are from the last call")
+      .value("--max-points", "N",
+             "refuse files claiming more points (default 100000000), so a corrupt header cannot "
+             "make hope allocate gigabytes");
+  cl.section("output",
+             "each file is written under a temporary name and renamed when complete: a failed "
+             "run leaves no partial file")
+      .value("--json", "FILE", "every plane field as JSON")
+      .value("--labels", "FILE.pcd",
+             "x y z label per input point, same order (0 = none, k = id + 1)")
+      .value("--overlay", "FILE.png",
+             "picture: tinted image for image-like input, top-down view otherwise")
+      .flag("--quiet", "no table on stdout");
+  return cl;
+}
 
 struct Options {
   std::map<std::string, std::string> values;
@@ -104,42 +121,12 @@ struct Options {
   bool no_bridge = false;
 };
 
-Options parse(int argc, char** argv) {
-  static const char* kValued[] = {"--input",       "--depth",         "--rgb",
-                                  "--intrinsics",  "--depth-scale",   "--pose",
-                                  "--quaternion",  "--rpy",           "--gravity",
-                                  "--r-xy",        "--r-z",           "--min-height",
-                                  "--max-height",  "--min-area",      "--json",
-                                  "--labels",      "--overlay",       "--sequence",
-                                  "--groundtruth", "--accelerometer", "--max-time-difference",
-                                  "--tracking",    "--jsonl",         "--overlay-dir",
-                                  "--max-points",  "--viewpoint",     "--max-merge-gap",
-                                  "--threads",     "--repeat"};
+Options options(const hope::tools::ParsedArgs& args) {
   Options options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    if (arg == "--quiet") {
-      options.quiet = true;
-      continue;
-    }
-    if (arg == "--no-merge") {
-      options.no_merge = true;
-      continue;
-    }
-    if (arg == "--no-bridge") {
-      options.no_bridge = true;
-      continue;
-    }
-    bool known = false;
-    for (const char* name : kValued) known = known || arg == name;
-    if (!known) throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
-    if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-    options.values[arg] = argv[++i];
-  }
+  options.values = args.values;
+  options.quiet = args.flag("--quiet");
+  options.no_merge = args.flag("--no-merge");
+  options.no_bridge = args.flag("--no-bridge");
   return options;
 }
 
@@ -214,6 +201,31 @@ hope::PinholeIntrinsics intrinsics(const Options& o) {
   if (o.values.count("--intrinsics")) {
     const auto v = hope::tools::parseNumbers(o.values.at("--intrinsics"), 4, "--intrinsics");
     k = {v[0], v[1], v[2], v[3]};
+  }
+  return k;
+}
+
+// A sequence's camera: --intrinsics, else the folder's intrinsics.txt, else TUM freiburg1's,
+// said on stderr (unless --quiet) since depth images give wrong planes with wrong intrinsics
+// and nothing else would show it: 3 cm off and areas 15 % too large on a Kinect folder read
+// with TUM fr1's.
+hope::PinholeIntrinsics sequenceIntrinsics(const Options& o,
+                                           const hope::tools::SequenceListing& listing) {
+  if (listing.layout != "TUM RGB-D") return intrinsics(o);  // point clouds: not used
+  std::string source;
+  hope::PinholeIntrinsics k = intrinsics(o);
+  if (o.values.count("--intrinsics")) {
+    source = "--intrinsics";
+    if (!listing.intrinsics_file.empty()) source += " (not " + listing.intrinsics_file + ")";
+  } else if (!listing.intrinsics_file.empty()) {
+    k = hope::tools::readIntrinsics(listing.intrinsics_file);
+    source = listing.intrinsics_file;
+  } else {
+    source = "TUM freiburg1's: the folder has no intrinsics.txt (give --intrinsics)";
+  }
+  if (!o.quiet) {
+    std::cerr << "hope_extract: intrinsics " << k.fx << " " << k.fy << " " << k.cx << " " << k.cy
+              << " from " << source << "\n";
   }
   return k;
 }
@@ -299,7 +311,7 @@ int runSequence(const Options& o) {
               << " frame(s) with no orientation within " << seq.max_time_difference << " s\n";
   }
 
-  const hope::PinholeIntrinsics k = intrinsics(o);
+  const hope::PinholeIntrinsics k = sequenceIntrinsics(o, listing);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);
   // Outputs last, after every argument was checked; the JSON lines are renamed into place
@@ -383,7 +395,13 @@ int runSequence(const Options& o) {
 }
 
 int run(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+  const hope::tools::CommandLine command_line = commandLine();
+  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
+  if (args.help) {
+    std::cout << command_line.help();
+    return 0;
+  }
+  const Options o = options(args);
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
                                     "--tracking", "--jsonl", "--overlay-dir"}) {

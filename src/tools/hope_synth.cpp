@@ -16,6 +16,7 @@
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/scene.h"
 #include "hope/synthetic/sequences.h"
+#include "hope/tools/cli.h"
 #include "hope/tools/io.h"
 #include "hope/tools/output_file.h"
 
@@ -34,34 +35,47 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(SyntheticLidarPoint,
 
 namespace {
 
-const char* kUsage = R"(usage: hope_synth --out DIR [--sequence NAME [--frames N] [--width W]]
-       hope_synth --out DIR --lidar MODEL [--scene street|room] [--unorganized]
-       hope_synth --out DIR --room-scan SPACING
-
-Without --sequence: renders the demo room (floor, table, book, cabinet, two stair treads, a
-ramp, a ball, a cone, a tube) seen by a 640x480 depth camera with structured-light noise.
-Writes DIR/depth.png (16-bit, 5000 per metre), DIR/rgb.png, DIR/pose.txt
-(tx ty tz qx qy qz qw) and DIR/truth.txt (the planes to find).
-
-With --sequence NAME (pan, rpy, shake, occlusion, leave_enter): a moving camera over floor,
-table, book, cabinet, stairs and the paper's pattern object, N frames at 30 Hz (default 60),
-W pixels wide (default 640; intrinsics scaled), in the TUM RGB-D layout: depth/ rgb/ truth/
-(ground-truth surface per pixel, 16-bit, label + 1), depth.txt, rgb.txt, groundtruth.txt,
-accelerometer.txt (optical frame, m/s^2, pointing up at rest) and intrinsics.txt (fx fy cx cy).
-
-With --lidar MODEL (vlp16, hdl64 or os128): one revolution of a spinning LiDAR over a street
-(road, 12 cm kerb and sidewalk, a 1.2 m loading platform, a parked car, a bench, a 2° driveway,
-a 25° ramp; the sensor 1.8 m up) or a room (floor, table, two boards, ceiling; 1.2 m up), range
-noise 2 cm. Writes DIR/scan.pcd in the sensor's frame (z up): x y z intensity ring label,
-organized rings x azimuth steps with NaN where a beam returned nothing (--unorganized: the
-returns only), and DIR/truth.txt (the surfaces and their heights in that frame). Try:
-  hope_extract --input DIR/scan.pcd --viewpoint "0 0 0" --r-xy 0.3 --r-z 0.1
-
-With --room-scan SPACING (metres): the demo room scanned straight from above every SPACING
-over 6 x 6 m, 2 mm height noise, z up, unorganized (0.00245: the 6.0 M points of
-hope_benchmark's large cloud). Writes DIR/room_scan.pcd (x y z, binary). For speed and memory
-on a large cloud:  /usr/bin/time -v hope_extract --input DIR/room_scan.pcd --repeat 5
-)";
+// Every option of hope_synth, grouped as the help shows them.
+hope::tools::CommandLine commandLine() {
+  hope::tools::CommandLine cl(
+      "hope_synth",
+      {"--out DIR [--sequence NAME [--frames N] [--width W]]",
+       "--out DIR --lidar MODEL [--scene street|room] [--unorganized]",
+       "--out DIR --room-scan SPACING"},
+      "Renders synthetic scenes with an exact answer so that hope_extract can be tried without "
+      "any dataset. Without --sequence, --lidar or --room-scan: the demo room (floor, table, "
+      "book, cabinet, two stair treads, a ramp, a ball, a cone, a tube) seen by a 640x480 depth "
+      "camera with structured-light noise. Writes DIR/depth.png (16-bit, 5000 per metre), "
+      "DIR/rgb.png, DIR/pose.txt (tx ty tz qx qy qz qw) and DIR/truth.txt (the planes to find).");
+  cl.section("output").value("--out", "DIR", "the folder to write into (required)");
+  cl.section("sequence",
+             "a moving camera over floor, table, book, cabinet, stairs and the paper's pattern "
+             "object, in the TUM RGB-D layout: depth/ rgb/ truth/ (ground-truth surface per "
+             "pixel, 16-bit, label + 1), depth.txt, rgb.txt, groundtruth.txt, accelerometer.txt "
+             "(optical frame, m/s^2, pointing up at rest) and intrinsics.txt (fx fy cx cy)")
+      .value("--sequence", "NAME", "pan, rpy, shake, occlusion or leave_enter")
+      .value("--frames", "N", "N frames at 30 Hz (default 60)")
+      .value("--width", "W", "W pixels wide (default 640; intrinsics scaled)");
+  cl.section("LiDAR scan",
+             "one revolution of a spinning LiDAR over a street (road, 12 cm kerb and sidewalk, a "
+             "1.2 m loading platform, a parked car, a bench, a 2° driveway, a 25° ramp; the "
+             "sensor 1.8 m up) or a room (floor, table, two boards, ceiling; 1.2 m up), range "
+             "noise 2 cm. Writes DIR/scan.pcd in the sensor's frame (z up): x y z intensity ring "
+             "label, organized rings x azimuth steps with NaN where a beam returned nothing, and "
+             "DIR/truth.txt (the surfaces and their heights in that frame). Try:\n"
+             "  hope_extract --input DIR/scan.pcd --viewpoint \"0 0 0\" --r-xy 0.3 --r-z 0.1")
+      .value("--lidar", "MODEL", "vlp16, hdl64 or os128")
+      .value("--scene", "NAME", "street (default) or room")
+      .flag("--unorganized", "the returns only, not rings x azimuth steps");
+  cl.section("room scan",
+             "the demo room scanned straight from above every SPACING over 6 x 6 m, 2 mm height "
+             "noise, z up, unorganized. Writes DIR/room_scan.pcd (x y z, binary). For speed and "
+             "memory on a large cloud:\n"
+             "  /usr/bin/time -v hope_extract --input DIR/room_scan.pcd --repeat 5")
+      .value("--room-scan", "SPACING",
+             "metres (0.00245: the 6.0 M points of hope_benchmark's large cloud)");
+  return cl;
+}
 
 // Every file complete or absent (output_file.h), as hope_extract's outputs.
 void writeImage(const std::string& path, const cv::Mat& image) {
@@ -235,67 +249,43 @@ void writeRoomScan(const std::string& out_dir, double spacing) {
             << spacing << " m, " << scan.cloud.size() << " points\n";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string out_dir, sequence, lidar, lidar_scene = "street";
-  double room_scan_spacing = 0;
-  bool room_scan = false;
-  bool unorganized = false;
-  int frames = 60, width = 640;
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "--out") {
-        out_dir = value();
-      } else if (arg == "--sequence") {
-        sequence = value();
-      } else if (arg == "--frames") {
-        frames = std::stoi(value());
-      } else if (arg == "--width") {
-        width = std::stoi(value());
-      } else if (arg == "--lidar") {
-        lidar = value();
-      } else if (arg == "--scene") {
-        lidar_scene = value();
-      } else if (arg == "--room-scan") {
-        room_scan_spacing = hope::tools::parseNumbers(value(), 1, "--room-scan")[0];
-        room_scan = true;
-      } else if (arg == "--unorganized") {
-        unorganized = true;
-      } else if (arg == "--help" || arg == "-h") {
-        std::cout << kUsage;
-        return 0;
-      } else {
-        throw std::invalid_argument("unknown argument '" + arg + "' (see --help)");
-      }
-    }
-    if (out_dir.empty()) throw std::invalid_argument("--out DIR is required");
-  } catch (const std::exception& e) {
-    std::cerr << "hope_synth: error: " << e.what() << "\n";
-    return 2;
+int run(int argc, char** argv) {
+  const hope::tools::CommandLine command_line = commandLine();
+  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
+  if (args.help) {
+    std::cout << command_line.help();
+    return 0;
   }
-  try {
-    std::filesystem::create_directories(out_dir);
-    if (room_scan) {
-      writeRoomScan(out_dir, room_scan_spacing);
-    } else if (!lidar.empty()) {
-      writeLidar(out_dir, lidar, lidar_scene, !unorganized);
-    } else if (sequence.empty()) {
-      writeDemo(out_dir);
-    } else {
-      writeSequence(out_dir, sequence, frames, width);
-    }
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "hope_synth: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "hope_synth: error: " << e.what() << "\n";
-    return 1;
+  const auto& values = args.values;
+  auto valueOr = [&](const char* name, const std::string& fallback) {
+    return values.count(name) ? values.at(name) : fallback;
+  };
+  const std::string out_dir = valueOr("--out", "");
+  if (out_dir.empty()) throw std::invalid_argument("--out DIR is required");
+  const std::string sequence = valueOr("--sequence", "");
+  const std::string lidar = valueOr("--lidar", "");
+  const std::string lidar_scene = valueOr("--scene", "street");
+  const int frames =
+      values.count("--frames") ? hope::tools::leadingInt("--frames", values.at("--frames")) : 60;
+  const int width =
+      values.count("--width") ? hope::tools::leadingInt("--width", values.at("--width")) : 640;
+  const bool room_scan = values.count("--room-scan") > 0;
+  const double room_scan_spacing =
+      room_scan ? hope::tools::parseNumbers(values.at("--room-scan"), 1, "--room-scan")[0] : 0;
+
+  std::filesystem::create_directories(out_dir);
+  if (room_scan) {
+    writeRoomScan(out_dir, room_scan_spacing);
+  } else if (!lidar.empty()) {
+    writeLidar(out_dir, lidar, lidar_scene, !args.flag("--unorganized"));
+  } else if (sequence.empty()) {
+    writeDemo(out_dir);
+  } else {
+    writeSequence(out_dir, sequence, frames, width);
   }
   return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return hope::tools::runTool("hope_synth", run, argc, argv); }

@@ -23,17 +23,33 @@
 
 namespace {
 
-const char* kUsage = R"(usage: hope_track_eval [--frames N] [--width W] [--r-xy M] [--r-z M]
-                       [--sequences "pan rpy ..."] [--markdown FILE]
-
-Renders each synthetic tracking sequence (pan, rpy, shake, occlusion, leave_enter: a depth
-camera moving over floor, table, book, cabinet, stairs and the paper's pattern object),
-extracts planes in every frame, and scores the ids given by the paper's NNPM and by the
-improved tracker against the known surfaces. Two orientation sources: the full camera pose
-(world frame, like TUM groundtruth.txt) and gravity only (like an accelerometer: no yaw, no
-translation, so everything moves in the reference frame when the camera moves).
-Defaults: 90 frames, 640 px wide, the extractor's default r_xy and r_z.
-)";
+// Every option of hope_track_eval, grouped as the help shows them.
+hope::tools::CommandLine commandLine() {
+  hope::tools::CommandLine cl(
+      "hope_track_eval",
+      {"[--frames N] [--width W] [--r-xy M] [--r-z M] [--sequences \"pan rpy ...\"] "
+       "[--markdown FILE]"},
+      "Renders each synthetic tracking sequence (pan, rpy, shake, occlusion, leave_enter: a depth "
+      "camera moving over floor, table, book, cabinet, stairs and the paper's pattern object), "
+      "extracts planes in every frame, and scores the ids given by the paper's NNPM and by the "
+      "improved tracker against the known surfaces. Two orientation sources: the full camera "
+      "pose (world frame, like TUM groundtruth.txt) and gravity only (like an accelerometer: no "
+      "yaw, no translation, so everything moves in the reference frame when the camera moves).");
+  cl.section("sequences")
+      .value("--sequences", "\"pan rpy ...\"",
+             "the sequences to run, separated by spaces (default: all of pan, rpy, shake, "
+             "occlusion, leave_enter)")
+      .value("--frames", "N", "frames per sequence, at 30 Hz (default 90)")
+      .value("--width", "W", "image width in pixels, intrinsics scaled (default 640)");
+  cl.section("parameters")
+      .value("--r-xy", "M", "grid resolution in xy, metres (default: the extractor's default r_xy)")
+      .value("--r-z", "M", "grid resolution in z, metres (default: the extractor's default r_z)");
+  cl.section("output").value(
+      "--markdown", "FILE",
+      "also write the report with its explanations as Markdown (docs/tracking.md); the "
+      "tables always go to stdout");
+  return cl;
+}
 
 // The head of docs/tracking.md: what is measured and how.
 const char* kPreamble =
@@ -158,37 +174,27 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
 }
 
 int run(int argc, char** argv) {
-  int frames = 90, width = 640;
-  hope::Params params;  // the defaults a user starts with
-  std::vector<std::string> names = hope::synthetic::trackingSequenceNames();
-  std::string markdown;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (arg == "--frames") {
-      frames = std::stoi(value());
-    } else if (arg == "--width") {
-      width = std::stoi(value());
-    } else if (arg == "--r-xy") {
-      params.r_xy = std::stod(value());
-    } else if (arg == "--r-z") {
-      params.r_z = std::stod(value());
-    } else if (arg == "--markdown") {
-      markdown = value();
-    } else if (arg == "--sequences") {
-      names.clear();
-      std::istringstream list(value());
-      for (std::string name; list >> name;) names.push_back(name);
-    } else {
-      throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
-    }
+  const hope::tools::CommandLine command_line = commandLine();
+  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
+  if (args.help) {
+    std::cout << command_line.help();
+    return 0;
   }
+  const auto& values = args.values;
+  using hope::tools::leadingDouble;
+  using hope::tools::leadingInt;
+  const int frames = values.count("--frames") ? leadingInt("--frames", values.at("--frames")) : 90;
+  const int width = values.count("--width") ? leadingInt("--width", values.at("--width")) : 640;
+  hope::Params params;  // the defaults a user starts with
+  if (values.count("--r-xy")) params.r_xy = leadingDouble("--r-xy", values.at("--r-xy"));
+  if (values.count("--r-z")) params.r_z = leadingDouble("--r-z", values.at("--r-z"));
+  std::vector<std::string> names = hope::synthetic::trackingSequenceNames();
+  if (values.count("--sequences")) {
+    names.clear();
+    std::istringstream list(values.at("--sequences"));
+    for (std::string name; list >> name;) names.push_back(name);
+  }
+  const std::string markdown = values.count("--markdown") ? values.at("--markdown") : "";
   // Opened now (a temporary beside it), so an unwritable path fails before minutes of work;
   // renamed into place when complete.
   std::optional<hope::tools::OutputFile> markdown_file;

@@ -58,6 +58,23 @@ std::vector<StampedFile> readFileList(const std::string& list_path, const std::s
   return files;
 }
 
+PinholeIntrinsics readIntrinsics(const std::string& path) {
+  std::vector<PinholeIntrinsics> found;
+  forEachDataLine(path, [&](std::istringstream& fields) {
+    PinholeIntrinsics k;
+    std::string extra;
+    if (!(fields >> k.fx >> k.fy >> k.cx >> k.cy) || (fields >> extra)) return false;
+    k.validate();  // finite, positive focal lengths; the file:line is added on failure
+    found.push_back(k);
+    return true;
+  });
+  if (found.size() != 1) {
+    throw std::runtime_error(path + ": expected one line \"fx fy cx cy\", found " +
+                             std::to_string(found.size()));
+  }
+  return found.front();
+}
+
 std::vector<StampedPose> readGroundTruth(const std::string& path) {
   std::vector<StampedPose> poses;
   forEachDataLine(path, [&](std::istringstream& fields) {
@@ -121,6 +138,8 @@ SequenceListing listSequence(const SequenceOptions& options) {
     listing.layout = "TUM RGB-D";
     inputs = readFileList((dir / "depth.txt").string(), options.dir);
     if (fs::exists(dir / "rgb.txt")) colour = readFileList((dir / "rgb.txt").string(), options.dir);
+    if (fs::exists(dir / "intrinsics.txt"))
+      listing.intrinsics_file = (dir / "intrinsics.txt").string();
   } else {
     listing.layout = "PCD folder";
     std::vector<fs::path> clouds;

@@ -4,6 +4,11 @@
 # small catkin package that links the core and hope_ros and loads the nodelet with pluginlib
 # (test/downstream/hope_downstream), imports the Python bindings and runs one extraction,
 # and checks every launch file with roslaunch-check. Run by ctest.
+# The install is scratch: it is removed when this script ends, pass or fail. Left inside the
+# source tree, it would give roslaunch two copies of every launch file of the package found
+# in the source folder (`roslaunch hope tum.launch` → "multiple files named [tum.launch]"):
+# roslaunch looks for a package's files in every folder below it, build/ included. The last
+# check below launches by package name from the devel space, as the README does.
 # Usage: check_install.sh BUILD_DIR INSTALL_PREFIX
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -25,6 +30,8 @@ fail() {
 
 echo "== installing into $prefix"
 rm -rf "$prefix"
+work=$(mktemp -d)
+trap 'rm -rf "$work" "$prefix"' EXIT
 cmake --install "$build" >"$build/check_install.log" 2>&1 || {
   cat "$build/check_install.log"
   fail "cmake --install"
@@ -50,8 +57,6 @@ source "$prefix/setup.bash"
 set -u
 [ "$(rospack find hope)" = "$prefix/share/hope" ] || fail "rospack finds hope at $(rospack find hope)"
 
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 echo "== a downstream catkin package against the install space"
 cp -r "$here/hope_downstream" "$work/"
 cmake -S "$work/hope_downstream" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
@@ -135,4 +140,24 @@ for f in "$prefix"/share/hope/launch/*.launch; do
   roslaunch --files "$f" "${args[@]}" >/dev/null || fail "roslaunch --files $f"
   echo "ok $(basename "$f")"
 done
-echo "OK: hope works from its install space"
+echo "ok: hope works from its install space"
+
+echo "== launching by package name from the devel space, after the install"
+rm -rf "$prefix"
+(
+  set +u
+  # shellcheck disable=SC1091
+  source "$build/devel/setup.bash"
+  set -u
+  source_dir=$(cd "$here/../.." && pwd)
+  [ "$(rospack find hope)" = "$source_dir" ] || fail "rospack finds hope at $(rospack find hope)"
+  for f in "$source_dir"/launch/*.launch; do
+    name=$(basename "$f")
+    found=$(roslaunch --files hope "$name" bag:=/tmp/a_tum_sequence.bag 2>&1) ||
+      fail "roslaunch hope $name: $found"
+    # --files lists the launch file and those it includes; the named one must be the source's.
+    echo "$found" | grep -qx "$f" || fail "roslaunch hope $name resolved to: $found"
+    echo "ok roslaunch hope $name"
+  done
+) || exit 1
+echo "OK: hope works from its install space, and launches by name afterwards"

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hope/depth_image.h"
 #include "hope/gravity_alignment.h"
 
 namespace hope {
@@ -38,6 +39,12 @@ struct StampedVector {
 // camera optical frame (pointing up at rest).
 std::vector<StampedVector> readAccelerometer(const std::string& path);
 
+// A folder's own camera: "fx fy cx cy" in pixels on one data line ('#' comments), the
+// intrinsics.txt that hope_synth --sequence writes and recorded folders carry beside
+// depth.txt. Throws std::runtime_error naming the file (and line) when it cannot be read,
+// holds no such line or more than one, or the values are not valid intrinsics.
+PinholeIntrinsics readIntrinsics(const std::string& path);
+
 // Index of the entry nearest in time to `stamp` (entries sorted by stamp), or -1 when the
 // nearest is further than `max_difference` seconds.
 template <class Stamped>
@@ -66,6 +73,8 @@ struct SequenceListing {
   std::vector<SequenceFrame> frames;
   std::size_t skipped_without_orientation = 0;
   std::string layout;  // "TUM RGB-D" or "PCD folder"
+  // DIR/intrinsics.txt when the TUM layout has one, else empty.
+  std::string intrinsics_file;
 };
 
 // Lists the frames of DIR: the TUM layout when DIR/depth.txt exists, otherwise the .pcd files

@@ -17,6 +17,7 @@
 #include <random>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 #include <pcl/common/transforms.h>
@@ -180,28 +181,31 @@ void BM_Hope(benchmark::State& state) {
                               : "") +
                  (params.threads > 1 ? ", " + std::to_string(params.threads) + " threads" : ""));
 }
-// A core kept busy for as long as it lives, as another node on a robot keeps one: a thread
-// that spins, scheduled by the kernel like any other process's.
-class BusyCore {
+// Cores kept busy for as long as it lives, as other nodes on a robot keep them: threads that
+// spin, scheduled by the kernel like any other process's.
+class BusyCores {
  public:
-  BusyCore()
-      : spinner_([this] {
-          volatile std::uint64_t work = 0;
-          while (!stop_.load(std::memory_order_relaxed)) work = work + 1;
-        }) {}
-  ~BusyCore() {
+  explicit BusyCores(int cores) {
+    for (int c = 0; c < cores; ++c) {
+      spinners_.emplace_back([this] {
+        volatile std::uint64_t work = 0;
+        while (!stop_.load(std::memory_order_relaxed)) work = work + 1;
+      });
+    }
+  }
+  ~BusyCores() {
     stop_ = true;
-    spinner_.join();
+    for (std::thread& spinner : spinners_) spinner.join();
   }
 
  private:
   std::atomic<bool> stop_{false};
-  std::thread spinner_;
+  std::vector<std::thread> spinners_;
 };
 
 // The whole pipeline (hope's defaults) on one thread and on two, on an idle machine and with
-// one core kept busy: more threads must never cost time, whatever the load. Arguments: input
-// (as BM_Hope), threads, busy (1: one core kept busy while the frames run).
+// one or two cores kept busy: more threads must never cost time, whatever the load.
+// Arguments: input (as BM_Hope), threads, busy cores.
 void BM_HopeThreads(benchmark::State& state) {
   const Input* input = inputOrSkip(state);
   if (!input) return;
@@ -210,22 +214,23 @@ void BM_HopeThreads(benchmark::State& state) {
   params.threads = static_cast<int>(state.range(1));
   hope::Extractor extractor(params);
   extractor.extract(*in.cloud, in.pose);  // buffers grown, pool threads started: steady state
-  std::unique_ptr<BusyCore> busy;
-  if (state.range(2)) busy = std::make_unique<BusyCore>();
+  const int busy = static_cast<int>(state.range(2));
+  BusyCores load(busy);
   for (auto _ : state) {
     const hope::Result r = extractor.extract(*in.cloud, in.pose);
     benchmark::DoNotOptimize(r.planes.data());
   }
-  busy.reset();
   state.SetLabel(std::string(kInputNames[state.range(0)]) + ", " + std::to_string(params.threads) +
                  (params.threads == 1 ? " thread" : " threads") +
-                 (state.range(2) ? ", one core kept busy" : ", idle"));
+                 (busy == 0   ? ", idle"
+                  : busy == 1 ? ", one core busy"
+                              : ", two cores busy"));
 }
 BENCHMARK(BM_HopeThreads)
     ->Apply([](benchmark::internal::Benchmark* b) {
       for (int input : {0, 1, 3})
         for (int threads : {1, 2})
-          for (int busy : {0, 1}) b->Args({input, threads, busy});
+          for (int busy : {0, 1, 2}) b->Args({input, threads, busy});
     })
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -93,8 +93,9 @@ hope::tools::CommandLine commandLine() {
             "rings take their normal from the next ring along the sensor's ray; needs the "
             "viewpoint). LiDAR: --r-xy 0.3 --r-z 0.1")
       .value("--threads", "N",
-             "threads for the passes over points and voxels (default 0: every core; the planes "
-             "are the same for any number)")
+             "threads for the passes over points and voxels (default 1, the fastest while "
+             "other programs keep the cores busy; 0: every core, faster on an idle machine; "
+             "the planes are the same for any number)")
       .value("--repeat", "N",
              "extract N times from the loaded input and print the first (cold) call's time and "
              "the median of the others (steady state, as in a node that keeps its buffers); "
@@ -240,7 +241,9 @@ hope::Params parameters(const Options& o) {
   params.merge_fragments = !o.no_merge;
   params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
   params.bridge_scan_gaps = !o.no_bridge;
-  params.threads = wholeNumber(o, "--threads", 0, 0, 1024);
+  // One thread unless asked: on a loaded machine a second one gains nothing
+  // (docs/benchmark_threads.txt).
+  params.threads = wholeNumber(o, "--threads", 1, 0, 1024);
   return params;
 }
 

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Takes docs/rviz_tum.png: the TUM freiburg1_desk frame (../shared/data, as the rostest bag
-# built by `bash scripts/test.sh`) replayed into the hope nodelet, shown by RViz under Xvfb
-# with rviz/hope.rviz (labeled cloud coloured by plane id, plane areas and outlines, "id: height"
-# labels).
-# Needs: rviz xvfb imagemagick (apt-get install -y rviz xvfb imagemagick).
+# Takes the README's RViz pictures under Xvfb, with rviz/hope.rviz (labeled cloud coloured by
+# plane id, plane areas and outlines, "id: height" labels; the view orbits hope_view):
+#   docs/rviz_tum.png  the TUM freiburg1_desk frame (../shared/data, as the rostest bag built by
+#                      `bash scripts/test.sh`) replayed into the hope nodelet;
+#   docs/rviz_pan.png  another scene, elsewhere in its world: the last frame of a panning
+#                      camera's sequence written by hope_synth, replayed by tum.launch as a
+#                      user replays a TUM folder (tum_to_bag.py, then roslaunch by name).
+# Needs: rviz xvfb imagemagick (scripts/install_deps.sh installs them).
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -17,7 +20,10 @@ cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 
 trap cleanup EXIT
 Xvfb :77 -screen 0 1280x720x24 >/dev/null 2>&1 & pids+=($!)
 export DISPLAY=:77 LIBGL_ALWAYS_SOFTWARE=1
-roscore -p 11399 >/dev/null 2>&1 & pids+=($!)
+mkdir -p "$root/docs"
+
+# The TUM frame: clouds from the bag straight into the nodelet, heights from tf.
+roscore -p 11399 >/dev/null 2>&1 & core=$!
 sleep 3
 rosparam set use_sim_time true
 rosrun nodelet nodelet manager __name:=manager >/dev/null 2>&1 & pids+=($!)
@@ -28,6 +34,24 @@ rviz -d "$root/rviz/hope.rviz" -f world >/dev/null 2>&1 & pids+=($!)
 sleep 6  # RViz under software rendering takes a while to subscribe
 rosbag play --clock -r 0.5 "$bag" >/dev/null 2>&1 & pids+=($!)
 sleep 10  # played once: the last frame stays on screen (a loop would reset RViz)
-mkdir -p "$root/docs"
 import -window root "$root/docs/rviz_tum.png"
 echo "wrote docs/rviz_tum.png"
+for p in "${pids[@]:1}"; do kill "$p" 2>/dev/null || true; done
+pids=("${pids[0]}")
+kill "$core"; wait "$core" 2>/dev/null || true
+
+# Another scene, replayed by name through tum.launch (its own master; RViz waits to be there
+# before the player starts, as hope is lazy while RViz listens).
+pan=$root/build/rviz_pan
+rm -rf "$pan"
+"$root/build/devel/lib/hope/hope_synth" --out "$pan" --sequence pan --frames 45 >/dev/null
+/usr/bin/python3 "$root/scripts/tum_to_bag.py" "$pan" "$pan.bag"
+roslaunch -p 11399 hope tum.launch bag:="$pan.bag" rate:=0.5 >"$ROS_LOG_DIR/screenshot_pan.txt" 2>&1 &
+pids+=($!)
+for _ in $(seq 1 90); do
+  grep -q "Done\." "$ROS_LOG_DIR/screenshot_pan.txt" && break
+  sleep 1
+done
+sleep 3
+import -window root "$root/docs/rviz_pan.png"
+echo "wrote docs/rviz_pan.png"

@@ -18,7 +18,9 @@ before=$1 after=$2 rounds=${3:-6} filter=${4:-BM_Hope/0/1/1/} reference=${5:-mer
 bench=$root/build/devel/lib/hope/hope_benchmark
 [ -x "$bench" ] || { echo "ab_benchmark: build first (bash scripts/build.sh)" >&2; exit 1; }
 export HOPE_SHARED_DATA=${HOPE_SHARED_DATA:-$root/../shared/data}
-work=$root/build/ab
+# A dot-folder: roslaunch looks for a package's launch files in every folder below the package
+# except those, and each revision's source tree here has its own launch/.
+work=$root/build/.ab
 mkdir -p "$work"
 for rev in "$before" "$after"; do
   commit=$(git -C "$root" rev-parse --verify "$rev^{commit}")

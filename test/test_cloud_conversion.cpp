@@ -263,6 +263,11 @@ hope::HorizontalPlane planeAt(int id, double x, double y, double height, double 
   p.centroid = Eigen::Vector3d(x, y, height);
   p.bbox = {{x - half_size, y - half_size, x + half_size, y + half_size}};
   p.area = 4 * half_size * half_size;
+  for (const double dx : {-half_size, half_size}) {
+    for (const double dy : {-half_size, half_size}) {
+      p.hull.emplace_back(x + dx, y + (dx < 0 ? dy : -dy), height);
+    }
+  }
   return p;
 }
 
@@ -297,6 +302,12 @@ TEST(PlaneMarkers, LabelsOfCrowdedPlanesDoNotOverlapAndStandAboveTheirPlanes) {
   // The far plane's label sits right above it.
   EXPECT_NEAR(at[4].x(), 3.0, 1e-12);
   EXPECT_LT(at[4].z(), 0.75 + hope_ros::kLabelHeight);
+  // The floor's centroid lies under the table: its label goes to a part of the floor that no
+  // higher plane covers, still on the floor (inside its box).
+  EXPECT_FALSE(std::fabs(at[5].x()) <= 0.8 && std::fabs(at[5].y()) <= 0.8)
+      << "the floor's label is under the table: " << at[5].transpose();
+  EXPECT_LE(std::fabs(at[5].x()), 2.0);
+  EXPECT_LE(std::fabs(at[5].y()), 2.0);
   // Crowding raised some labels: four labels within a decimetre were the point of this test.
   int raised = 0;
   for (std::size_t k = 0; k < 4; ++k)

@@ -42,14 +42,15 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
                       sensor_msgs::PointCloud2& out);
 
 // Where planeMarkers puts each plane's "id: height" label (same order as `planes`): above
-// its centroid, high enough that the text stands clear of the plane's fill (RViz hides text
-// behind a fill it crosses), and raised further above any label placed before it (larger
-// planes first) whose text it could overlap from some point of view, so that labels of
-// crowded planes stack instead of covering each other.
+// its centroid, or above a corner of it in the open when a higher plane covers the centroid
+// (RViz hides text behind the fills and points in front of it: the floor under a table);
+// high enough that the text stands clear of the plane's own fill; and raised further above
+// any label placed before it (larger planes first) whose text it could overlap from some
+// point of view, so that labels of crowded planes stack instead of covering each other.
 std::vector<Eigen::Vector3d> labelPositions(const std::vector<hope::HorizontalPlane>& planes);
 // The labels' text height in metres, and the width allowed per character.
 constexpr double kLabelHeight = 0.12;
-constexpr double kLabelCharWidth = 0.6 * kLabelHeight;
+constexpr double kLabelCharWidth = 0.9 * kLabelHeight;  // RViz's font, spaces included
 
 // The middle of what the planes cover (their boxes' union in x and y, halfway between the
 // lowest and the highest plane in z), or nullopt without planes: where RViz's view should

@@ -232,13 +232,49 @@ std::string labelOf(const hope::HorizontalPlane& p) {
 
 }  // namespace
 
+namespace {
+
+// Whether a higher plane's box covers `xy`: its fill would hide a label there from above.
+bool underAHigherPlane(const std::vector<hope::HorizontalPlane>& planes, std::size_t k,
+                       const Eigen::Vector2d& xy) {
+  for (std::size_t q = 0; q < planes.size(); ++q) {
+    const hope::HorizontalPlane& other = planes[q];
+    if (q == k || other.height <= planes[k].height + 0.05) continue;
+    if (xy.x() >= other.bbox[0] && xy.x() <= other.bbox[2] && xy.y() >= other.bbox[1] &&
+        xy.y() <= other.bbox[3]) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Where a plane's label goes in x and y: its centroid, unless a higher plane covers it (the
+// floor under a table), then the first of its hull's corners, drawn a third of the way in,
+// that no higher plane covers (a part of the floor in the open).
+Eigen::Vector2d labelAnchor(const std::vector<hope::HorizontalPlane>& planes, std::size_t k) {
+  const hope::HorizontalPlane& p = planes[k];
+  const Eigen::Vector2d centre = p.centroid.head<2>();
+  if (!underAHigherPlane(planes, k, centre)) return centre;
+  for (const Eigen::Vector3d& corner : p.hull) {
+    const Eigen::Vector2d inside = corner.head<2>() + (centre - corner.head<2>()) / 3.0;
+    if (!underAHigherPlane(planes, k, inside)) return inside;
+  }
+  return centre;
+}
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> labelPositions(const std::vector<hope::HorizontalPlane>& planes) {
   // The text faces the camera: seen from the side its lower half reaches half a text height
   // below its centre, so the centre goes that and a margin above the plane.
   constexpr double kLift = 0.5 * kLabelHeight + 0.04;
   // Two labels may overlap on screen when their texts come closer horizontally than half
-  // their widths added (from some direction) and vertically than a text height and a gap.
-  constexpr double kRowHeight = 1.25 * kLabelHeight;
+  // their widths added, from the side; from above at a slant, labels one behind the other
+  // meet on screen further apart, so 1.5 times that counts as near. Then one goes two text
+  // heights above the other, which parts them on screen from a view 60 degrees down (RViz's
+  // default is 43).
+  constexpr double kNearFactor = 1.5;
+  constexpr double kRowHeight = 2 * kLabelHeight;
   std::vector<std::size_t> order(planes.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(),
@@ -249,15 +285,15 @@ std::vector<Eigen::Vector3d> labelPositions(const std::vector<hope::HorizontalPl
   for (std::size_t k : order) {
     const hope::HorizontalPlane& p = planes[k];
     half_widths[k] = 0.5 * kLabelCharWidth * static_cast<double>(labelOf(p).size());
-    Eigen::Vector3d at = p.centroid;
-    at.z() = p.height + kLift;
+    Eigen::Vector3d at;
+    at << labelAnchor(planes, k), p.height + kLift;
     // Raise past every placed label it could cover; each raise may meet another one, so look
     // again until none is in the way (the height only grows: at most one raise per label).
     for (bool moved = true; moved;) {
       moved = false;
       for (std::size_t q : placed) {
-        const bool near =
-            (at.head<2>() - positions[q].head<2>()).norm() < half_widths[k] + half_widths[q];
+        const bool near = (at.head<2>() - positions[q].head<2>()).norm() <
+                          kNearFactor * (half_widths[k] + half_widths[q]);
         const double above = positions[q].z() + kRowHeight;
         // (above > at.z(): rounding must not make a raise to the same height look like one.)
         if (near && std::fabs(at.z() - positions[q].z()) < kRowHeight && above > at.z()) {

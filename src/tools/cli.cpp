@@ -11,9 +11,16 @@
 namespace hope {
 namespace tools {
 
-int runTool(const char* tool, int (*run)(int, char**), int argc, char** argv) {
+int runTool(const char* tool, CommandLine (*command_line)(), int (*run)(const ParsedArgs&),
+            int argc, char** argv) {
   try {
-    return run(argc, argv);
+    const CommandLine table = command_line();
+    const ParsedArgs args = table.parse(argc, argv);
+    if (args.help) {
+      std::cout << table.help();
+      return 0;
+    }
+    return run(args);
   } catch (const std::invalid_argument& e) {
     std::cerr << tool << ": error: " << e.what() << "\n";
     return 2;

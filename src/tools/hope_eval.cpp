@@ -335,13 +335,7 @@ bool lidarSection(std::ostringstream& md, const std::string& out_dir, const std:
   return met;
 }
 
-int run(int argc, char** argv) {
-  const hope::tools::CommandLine command_line = commandLine();
-  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
-  if (args.help) {
-    std::cout << command_line.help();
-    return 0;
-  }
+int run(const hope::tools::ParsedArgs& args) {
   const std::string out_dir = args.values.count("--out") ? args.values.at("--out") : "docs";
   const bool quick = args.flag("--quick");
   const char* data_env = std::getenv("HOPE_SHARED_DATA");
@@ -714,4 +708,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return hope::tools::runTool("hope_eval", run, argc, argv); }
+int main(int argc, char** argv) {
+  return hope::tools::runTool("hope_eval", commandLine, run, argc, argv);
+}

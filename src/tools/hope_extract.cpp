@@ -397,13 +397,7 @@ int runSequence(const Options& o) {
   return 0;
 }
 
-int run(int argc, char** argv) {
-  const hope::tools::CommandLine command_line = commandLine();
-  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
-  if (args.help) {
-    std::cout << command_line.help();
-    return 0;
-  }
+int run(const hope::tools::ParsedArgs& args) {
   const Options o = options(args);
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
@@ -488,4 +482,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return hope::tools::runTool("hope_extract", run, argc, argv); }
+int main(int argc, char** argv) {
+  return hope::tools::runTool("hope_extract", commandLine, run, argc, argv);
+}

@@ -249,13 +249,7 @@ void writeRoomScan(const std::string& out_dir, double spacing) {
             << spacing << " m, " << scan.cloud.size() << " points\n";
 }
 
-int run(int argc, char** argv) {
-  const hope::tools::CommandLine command_line = commandLine();
-  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
-  if (args.help) {
-    std::cout << command_line.help();
-    return 0;
-  }
+int run(const hope::tools::ParsedArgs& args) {
   const auto& values = args.values;
   auto valueOr = [&](const char* name, const std::string& fallback) {
     return values.count(name) ? values.at(name) : fallback;
@@ -288,4 +282,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return hope::tools::runTool("hope_synth", run, argc, argv); }
+int main(int argc, char** argv) {
+  return hope::tools::runTool("hope_synth", commandLine, run, argc, argv);
+}

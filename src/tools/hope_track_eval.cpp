@@ -173,13 +173,7 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
   return row;
 }
 
-int run(int argc, char** argv) {
-  const hope::tools::CommandLine command_line = commandLine();
-  const hope::tools::ParsedArgs args = command_line.parse(argc, argv);
-  if (args.help) {
-    std::cout << command_line.help();
-    return 0;
-  }
+int run(const hope::tools::ParsedArgs& args) {
   const auto& values = args.values;
   using hope::tools::leadingDouble;
   using hope::tools::leadingInt;
@@ -327,4 +321,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return hope::tools::runTool("hope_track_eval", run, argc, argv); }
+int main(int argc, char** argv) {
+  return hope::tools::runTool("hope_track_eval", commandLine, run, argc, argv);
+}

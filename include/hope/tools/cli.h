@@ -10,11 +10,6 @@
 namespace hope {
 namespace tools {
 
-// Runs `run(argc, argv)` and returns its exit code. An exception ends the tool with
-// "<tool>: error: <what>" on stderr and exit code 2 for std::invalid_argument (bad arguments
-// or values) or 1 for anything else (unreadable or unwritable files, …).
-int runTool(const char* tool, int (*run)(int, char**), int argc, char** argv);
-
 // What a command line asked for, keyed by the option names of the tool's table ("--r-xy").
 struct ParsedArgs {
   // --help or -h was given: the tool prints CommandLine::help() and does nothing else.
@@ -86,6 +81,13 @@ class CommandLine {
 // when the value does not start with one or is out of range.
 int leadingInt(const std::string& option, const std::string& text);
 double leadingDouble(const std::string& option, const std::string& text);
+
+// A tool's main: reads the arguments by the tool's table (`command_line()`), prints the help
+// for --help or -h, otherwise returns `run(args)`. An exception ends the tool with
+// "<tool>: error: <what>" on stderr and exit code 2 for std::invalid_argument (bad arguments
+// or values) or 1 for anything else (unreadable or unwritable files, …).
+int runTool(const char* tool, CommandLine (*command_line)(), int (*run)(const ParsedArgs&),
+            int argc, char** argv);
 
 }  // namespace tools
 }  // namespace hope

@@ -33,4 +33,14 @@ class VoxelGrid;
 double footprintMinorVariance(const VoxelGrid& grid, const std::vector<std::uint32_t>& members);
 constexpr double kMinFootprintVariance = 0.2;
 
+// §2.4 on every cluster of Z clustering: each one's verdict, and whether it is accepted
+// (horizontal by Eq 10, with a footprint that is not a line).
+struct ClusterRefinement {
+  std::vector<RefinementVerdict> verdicts;
+  std::vector<std::uint8_t> accepted;
+};
+ClusterRefinement refineClusters(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& normals,
+                                 const std::vector<std::vector<std::uint32_t>>& clusters,
+                                 double gamma);
+
 }  // namespace hope

@@ -10,6 +10,7 @@
 #include "hope/pca_refinement.h"
 #include "hope/plane_description.h"
 #include "hope/scan_gap_bridging.h"
+#include "hope/surface_assembly.h"
 #include "hope/z_clustering.h"
 #include "parallel.h"
 
@@ -107,160 +108,27 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   result.clusters = clusters.size();
   result.timings.clustering_ms = stage.lap();
 
-  std::vector<RefinementVerdict> verdicts(clusters.size());
-  std::vector<std::uint8_t> accepted(clusters.size(), 0);
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
-    verdicts[c] = refineWithPCA(normals_, clusters[c], gamma);
-    accepted[c] = verdicts[c].horizontal &&
-                  footprintMinorVariance(grid_, clusters[c]) >= kMinFootprintVariance;
-  }
+  const ClusterRefinement refinement = refineClusters(grid_, normals_, clusters, gamma);
   result.timings.refinement_ms = stage.lap();
 
-  // Description of each cluster from its voxels, in the grid's coordinates (the merge works
-  // there). With the merge on, rejected clusters are described too (they may join an accepted
-  // surface). Every surface is measured in full (its points' bbox and hull) once it is
-  // complete. The clusters are described in parallel, each on its own, then taken in order.
-  const bool merge = params_.merge_fragments;
-  std::vector<HorizontalPlane> descriptions(clusters.size());
-  parallel::forEach(clusters.size(), threads, [&](std::size_t c) {
-    if (!accepted[c] && !merge) return;
-    descriptions[c] = describePlane(grid_, aligned_view_, clusters[c], Detail::kVoxels);
-  });
-  std::vector<Fragment> fragments;
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
-    if (!accepted[c] && !merge) continue;
-    Fragment fragment{std::move(descriptions[c]), &clusters[c], accepted[c] != 0};
-    // The plane fitted through the cluster's points must itself be within the accepted slope:
-    // grid normals underestimate slopes just steeper than atan γ (Z clustering cuts them into
-    // level strips), and the fit over the whole strip sees what the normals miss.
-    if (fragment.plane.tilt > params_.maxSlope()) fragment.accepted = false;
-    if (!fragment.accepted && !merge) continue;
-    fragment.plane.mean_normal_tilt = verdicts[c].mean_tilt;
-    fragment.plane.group_angle = verdicts[c].group_angle;
-    fragments.push_back(std::move(fragment));
-  }
-  std::size_t accepted_fragments = 0;
-  for (const Fragment& f : fragments) accepted_fragments += f.accepted ? 1 : 0;
-  result.rejected_by_refinement = clusters.size() - accepted_fragments;
+  AssemblyCounts counts;
+  std::vector<Fragment> fragments =
+      describeFragments(grid_, aligned_view_, clusters, refinement, params_, threads, counts);
   result.timings.description_ms = stage.lap();
 
   const std::vector<std::vector<std::size_t>> groups =
       groupFragments(grid_, fragments, viewpoint, params_);
-
-  // The surfaces: groups with at least one accepted fragment (a rejected one never stands
-  // alone). voxel_plane_ holds the surface index of each voxel until the ids are known.
-  struct Surface {
-    HorizontalPlane plane;
-    std::vector<std::uint32_t> voxels;
-  };
-  std::vector<Surface> surfaces;
-  voxel_plane_.assign(grid_.numVoxels(), -1);
-  for (const std::vector<std::size_t>& group : groups) {
-    const std::size_t largest = representative(fragments, group);
-    if (!fragments[largest].accepted) continue;
-    Surface surface;
-    for (std::size_t k : group) {
-      surface.voxels.insert(surface.voxels.end(), fragments[k].voxels->begin(),
-                            fragments[k].voxels->end());
-      if (!fragments[k].accepted) --result.rejected_by_refinement;
-    }
-    if (group.size() == 1) {
-      surface.plane = std::move(fragments[largest].plane);
-    } else {
-      surface.plane = describePlane(grid_, aligned_view_, surface.voxels, Detail::kVoxels);
-      surface.plane.num_parts = static_cast<int>(group.size());
-      // The refinement angles of the largest accepted part.
-      surface.plane.mean_normal_tilt = fragments[largest].plane.mean_normal_tilt;
-      surface.plane.group_angle = fragments[largest].plane.group_angle;
-      result.merged_fragments += group.size() - 1;
-    }
-    for (std::uint32_t v : surface.voxels) {
-      voxel_plane_[v] = static_cast<std::int32_t>(surfaces.size());
-    }
-    surfaces.push_back(std::move(surface));
-  }
-  if (merge) {
-    // Surface completion (fragment_merging.h) once every surface owns its voxels, so that no
-    // surface grows into another.
-    const std::vector<std::int32_t> owner_before = voxel_plane_;
-    for (std::size_t k = 0; k < surfaces.size(); ++k) {
-      completeSurface(grid_, normals_, surfaces[k].plane, params_.r_z, static_cast<std::int32_t>(k),
-                      voxel_plane_, surfaces[k].voxels);
-    }
-    // What the completion cut off a surface is not noise when it is a surface itself: a kerb's
-    // top joined to the road through the kerb's face, a driveway climbing away from the road's
-    // plane. Those voxels are clustered and refined again, and each accepted cluster becomes a
-    // surface of its own — unless it lies among the surface it was cut from (its voxels mostly
-    // beside that surface's), which makes it the surface's noisy fringe.
-    std::vector<std::uint8_t> trimmed(grid_.numVoxels(), 0);
-    for (std::size_t v = 0; v < trimmed.size(); ++v) {
-      trimmed[v] = owner_before[v] >= 0 && voxel_plane_[v] < 0 && is_candidate_[v];
-    }
-    auto besideItsOrigin = [&](std::uint32_t v) {
-      const int cx = grid_.cellX(v), cy = grid_.cellY(v);
-      const int offsets[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-      for (const auto& d : offsets) {
-        const auto range = grid_.columnVoxels(cx + d[0], cy + d[1]);
-        for (std::uint32_t u = range.first; u < range.second; ++u) {
-          if (voxel_plane_[u] >= 0 && voxel_plane_[u] == owner_before[v]) return true;
-        }
-      }
-      return false;
-    };
-    for (std::vector<std::uint32_t>& cluster :
-         zClustering(grid_, trimmed, params_.r_z, params_.min_cluster_voxels, links_)) {
-      std::size_t beside = 0;
-      for (std::uint32_t v : cluster) beside += besideItsOrigin(v) ? 1 : 0;
-      if (2 * beside > cluster.size()) continue;
-      const RefinementVerdict verdict = refineWithPCA(normals_, cluster, gamma);
-      if (!verdict.horizontal || footprintMinorVariance(grid_, cluster) < kMinFootprintVariance) {
-        continue;
-      }
-      Surface surface{describePlane(grid_, aligned_view_, cluster, Detail::kVoxels),
-                      std::move(cluster)};
-      if (surface.plane.tilt > params_.maxSlope()) continue;
-      surface.plane.mean_normal_tilt = verdict.mean_tilt;
-      surface.plane.group_angle = verdict.group_angle;
-      for (std::uint32_t v : surface.voxels) {
-        voxel_plane_[v] = static_cast<std::int32_t>(surfaces.size());
-      }
-      ++result.clusters;
-      surfaces.push_back(std::move(surface));
-    }
-  }
+  std::vector<Surface> surfaces =
+      assembleSurfaces(grid_, aligned_view_, normals_, is_candidate_, links_, fragments, groups,
+                       params_, voxel_plane_, counts);
+  result.rejected_by_refinement = counts.rejected_by_refinement;
+  result.merged_fragments = counts.merged_fragments;
+  result.clusters += counts.fringe_clusters;
   result.timings.merging_ms = stage.lap();
-  if (merge) {
-    // Every surface measured again from its voxels now that the merge joined and completed it.
-    parallel::forEach(surfaces.size(), threads, [&](std::size_t k) {
-      Surface& surface = surfaces[k];
-      HorizontalPlane again = describePlane(grid_, aligned_view_, surface.voxels, Detail::kVoxels);
-      again.num_parts = surface.plane.num_parts;
-      again.mean_normal_tilt = surface.plane.mean_normal_tilt;
-      again.group_angle = surface.plane.group_angle;
-      surface.plane = std::move(again);
-    });
-  }
-  // Ids in order, after the optional height band and minimum area (both known from the voxels;
-  // heights as translate() makes them): the voxels of a dropped surface belong to no plane, and
-  // only the kept surfaces are measured in full.
-  std::vector<std::int32_t> plane_of_surface(surfaces.size(), -1);
-  std::vector<const std::vector<std::uint32_t>*> kept_voxels;
-  std::vector<HorizontalPlane*> kept;
-  for (std::size_t k = 0; k < surfaces.size(); ++k) {
-    const HorizontalPlane& plane = surfaces[k].plane;
-    const double height = plane.height + result.local_origin.z();
-    if (height < params_.min_height || height > params_.max_height ||
-        plane.area < params_.min_area) {
-      ++result.rejected_by_band_or_area;
-      continue;
-    }
-    plane_of_surface[k] = static_cast<std::int32_t>(kept.size());
-    kept_voxels.push_back(&surfaces[k].voxels);
-    kept.push_back(&surfaces[k].plane);
-  }
-  for (std::int32_t& owner : voxel_plane_) {
-    if (owner >= 0) owner = plane_of_surface[static_cast<std::size_t>(owner)];
-  }
+
+  if (params_.merge_fragments) redescribeSurfaces(grid_, aligned_view_, surfaces, threads);
+  const KeptSurfaces kept = keepInBandAndArea(surfaces, result.local_origin.z(), params_,
+                                              voxel_plane_, result.rejected_by_band_or_area);
   // Each kept surface measured in full, as the paper's planes are: bbox and hull from the
   // points, for all surfaces in one read of the points' voxels, which labels the points too.
   PointLabelling labelling;
@@ -269,8 +137,8 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     labelling.voxel_label = &voxel_plane_;
     labelling.point_labels = result.point_labels.data();
   }
-  describeInFull(grid_, aligned_view_, kept_voxels, kept, threads, labelling);
-  for (HorizontalPlane* plane : kept) {
+  describeInFull(grid_, aligned_view_, kept.voxels, kept.planes, threads, labelling);
+  for (HorizontalPlane* plane : kept.planes) {
     plane->translate(result.local_origin);
     if (orientation.viewpoint()) {
       const Eigen::Vector3d& eye = *orientation.viewpoint();

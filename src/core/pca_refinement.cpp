@@ -94,4 +94,18 @@ double footprintMinorVariance(const VoxelGrid& grid, const std::vector<std::uint
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(covariance).eigenvalues()[0];
 }
 
+ClusterRefinement refineClusters(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& normals,
+                                 const std::vector<std::vector<std::uint32_t>>& clusters,
+                                 double gamma) {
+  ClusterRefinement refinement;
+  refinement.verdicts.resize(clusters.size());
+  refinement.accepted.assign(clusters.size(), 0);
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    refinement.verdicts[c] = refineWithPCA(normals, clusters[c], gamma);
+    refinement.accepted[c] = refinement.verdicts[c].horizontal &&
+                             footprintMinorVariance(grid, clusters[c]) >= kMinFootprintVariance;
+  }
+  return refinement;
+}
+
 }  // namespace hope

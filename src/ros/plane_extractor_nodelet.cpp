@@ -40,9 +40,8 @@ std::string frameId(const std::string& frame) {
   return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
 }
 
-// "<node name>_gravity" with the namespace's slashes as underscores: /hope → hope_gravity,
-// /camera/hope → camera_hope_gravity.
-// A frame of this nodelet's own: "<node name>_<suffix>" ("hope" → hope_gravity, hope_view).
+// A frame of this nodelet's own: "<node name>_<suffix>" with the namespace's slashes as
+// underscores: /hope → hope_gravity, hope_view; /camera/hope → camera_hope_gravity.
 std::string ownFrame(const std::string& node_name, const char* suffix) {
   std::string frame = frameId(node_name);
   for (char& c : frame) c = c == '/' ? '_' : c;

@@ -115,21 +115,8 @@ hope::tools::CommandLine commandLine() {
   return cl;
 }
 
-struct Options {
-  std::map<std::string, std::string> values;
-  bool quiet = false;
-  bool no_merge = false;
-  bool no_bridge = false;
-};
-
-Options options(const hope::tools::ParsedArgs& args) {
-  Options options;
-  options.values = args.values;
-  options.quiet = args.flag("--quiet");
-  options.no_merge = args.flag("--no-merge");
-  options.no_bridge = args.flag("--no-bridge");
-  return options;
-}
+// The parsed command line, as every helper below reads it.
+using Options = hope::tools::ParsedArgs;
 
 double number(const Options& o, const std::string& key, double fallback) {
   const auto it = o.values.find(key);
@@ -224,7 +211,7 @@ hope::PinholeIntrinsics sequenceIntrinsics(const Options& o,
   } else {
     source = "TUM freiburg1's: the folder has no intrinsics.txt (give --intrinsics)";
   }
-  if (!o.quiet) {
+  if (!o.flag("--quiet")) {
     std::cerr << "hope_extract: intrinsics " << k.fx << " " << k.fy << " " << k.cx << " " << k.cy
               << " from " << source << "\n";
   }
@@ -238,9 +225,9 @@ hope::Params parameters(const Options& o) {
   params.min_height = number(o, "--min-height", params.min_height);
   params.max_height = number(o, "--max-height", params.max_height);
   params.min_area = number(o, "--min-area", params.min_area);
-  params.merge_fragments = !o.no_merge;
+  params.merge_fragments = !o.flag("--no-merge");
   params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
-  params.bridge_scan_gaps = !o.no_bridge;
+  params.bridge_scan_gaps = !o.flag("--no-bridge");
   // One thread unless asked: on a loaded machine a second one gains nothing
   // (docs/benchmark_threads.txt).
   params.threads = wholeNumber(o, "--threads", 1, 0, 1024);
@@ -330,7 +317,7 @@ int runSequence(const Options& o) {
       o.values.count("--overlay-dir") ? o.values.at("--overlay-dir") : "";
   if (!overlay_dir.empty()) std::filesystem::create_directories(overlay_dir);
 
-  Progress progress(listing.frames.size(), !o.quiet);
+  Progress progress(listing.frames.size(), !o.flag("--quiet"));
   std::set<int> ids;
   std::size_t total_planes = 0;
   double extract_ms = 0, track_ms = 0;
@@ -397,8 +384,7 @@ int runSequence(const Options& o) {
   return 0;
 }
 
-int run(const hope::tools::ParsedArgs& args) {
-  const Options o = options(args);
+int run(const Options& o) {
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
                                     "--tracking", "--jsonl", "--overlay-dir"}) {
@@ -450,8 +436,8 @@ int run(const hope::tools::ParsedArgs& args) {
   }
   for (const auto& warning : result.warnings)
     std::cerr << "hope_extract: warning: " << warning << "\n";
-  if (!o.quiet) hope::tools::printTable(std::cout, result);
-  if (!o.quiet && !steady_ms.empty()) {
+  if (!o.flag("--quiet")) hope::tools::printTable(std::cout, result);
+  if (!o.flag("--quiet") && !steady_ms.empty()) {
     std::nth_element(steady_ms.begin(), steady_ms.begin() + steady_ms.size() / 2, steady_ms.end());
     const double median = steady_ms[steady_ms.size() / 2];
     std::printf(

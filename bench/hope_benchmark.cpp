@@ -9,7 +9,9 @@
 // the working directory; skipped when absent), and generated on first use: a 6-million-point
 // unorganized scan of the synthetic demo room, the pattern object seen by a camera and a
 // simulated HDL-64E street scan.
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -33,6 +35,7 @@
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
+#include "hope/up_estimation.h"
 #include "hope_ros/cloud_conversion.h"
 
 namespace {
@@ -250,6 +253,49 @@ BENCHMARK(BM_Hope)
     ->Args({3, 1, 1})
     ->Args({3, 2, 1})
     ->Args({3, 0, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Up from the scene (up_estimation.h) on the input in its sensor frame, beside the pipeline's
+// time on the same input (BM_Hope): the estimate with no prior, and the refinement of the
+// input's own orientation. Counters: the share of the pipeline's time (one thread, defaults)
+// measured in the same run. Arguments: input (0 TUM frame, 3 HDL-64E scan), 0 estimate /
+// 1 refine.
+void BM_UpFromScene(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  const bool refine = state.range(1) == 1;
+  const hope::LevellingParams levelling = hope::LevellingParams::forExtraction(in.params);
+  hope::UpEstimator estimator(levelling);
+  hope::Extractor extractor(in.params);
+  // The pipeline's own time on this input, for the share.
+  std::vector<double> pipeline_ms;
+  for (int k = 0; k < 7; ++k)
+    pipeline_ms.push_back(extractor.extract(*in.cloud, in.pose).timings.total_ms);
+  std::nth_element(pipeline_ms.begin(), pipeline_ms.begin() + 3, pipeline_ms.end());
+  double sum_ms = 0;
+  double area = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    const hope::UpEstimate e = refine ? estimator.refine(hope::PointsView::of(*in.cloud), in.pose)
+                                      : estimator.estimate(hope::PointsView::of(*in.cloud));
+    sum_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    area = e.support_area;
+    benchmark::DoNotOptimize(e.up_in_sensor.data());
+  }
+  const double ms = sum_ms / static_cast<double>(state.iterations());
+  state.counters["pipeline_ms"] = pipeline_ms[3];
+  state.counters["share_of_pipeline"] = ms / pipeline_ms[3];
+  state.counters["level_area_m2"] = area;
+  state.SetLabel(std::string(kInputNames[state.range(0)]) +
+                 (refine ? ", refining its pose" : ", estimate (no prior)"));
+}
+BENCHMARK(BM_UpFromScene)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({3, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

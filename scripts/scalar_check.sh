@@ -9,7 +9,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 out=$root/build_scalar
 tests="test_alignment test_stages test_extractor test_bad_input test_tum test_fragment_merging
   test_plane_outline test_lidar test_threads test_reference_pipeline test_tracking test_sequence
-  test_cli_io"
+  test_cli_io test_up_estimation"
 cmake -S "$root" -B "$out" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
   -Dhope_SCALAR_ONLY=ON >/dev/null
 # shellcheck disable=SC2086

@@ -40,6 +40,8 @@ class Orientation {
   // A copy that records where the sensor was, in the reference frame. Every factory but
   // identity() sets it to the sensor frame's origin (the translation; zero for a rotation).
   Orientation withViewpoint(const Eigen::Vector3d& viewpoint) const;
+  // A copy with the sensor's position unknown (as identity() has it).
+  Orientation withoutViewpoint() const;
 
   const Eigen::Isometry3d& sensorToReference() const { return transform_; }
   // The sensor's position in the reference frame, when known. The fragment merge uses it to

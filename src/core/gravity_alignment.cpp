@@ -57,6 +57,12 @@ Orientation Orientation::withViewpoint(const Eigen::Vector3d& viewpoint) const {
   return o;
 }
 
+Orientation Orientation::withoutViewpoint() const {
+  Orientation o = *this;
+  o.viewpoint_.reset();
+  return o;
+}
+
 Orientation Orientation::fromQuaternion(double qx, double qy, double qz, double qw) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = checkedUnitQuaternion(qx, qy, qz, qw).toRotationMatrix();

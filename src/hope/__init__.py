@@ -3,6 +3,7 @@
     import numpy as np, hope
     extractor = hope.Extractor(r_xy=0.05, r_z=0.02)
     result = extractor.extract(points, quaternion=(qx, qy, qz, qw))  # N x 3 or H x W x 3
+    result = extractor.extract(points, level=True)  # no IMU: up from the scene
     for plane in result.planes:
         print(plane.id, plane.height, plane.area)
     result.labels  # per point: index into result.planes, -1 for none
@@ -14,6 +15,7 @@ evenly spaced in memory are read in place. hope.msg holds the ROS messages.
 from hope._hope import (  # noqa: F401  (re-exported)
     Extractor,
     ExtractionResult,
+    LevellingError,
     Plane,
     PlaneTracker,
     TrackEvent,
@@ -24,6 +26,7 @@ from hope._hope import (  # noqa: F401  (re-exported)
 __all__ = [
     "Extractor",
     "ExtractionResult",
+    "LevellingError",
     "Plane",
     "PlaneTracker",
     "TrackEvent",

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,7 @@
 #include "hope/extractor.h"
 #include "hope/plane_colors.h"
 #include "hope/plane_tracker.h"
+#include "hope/up_estimation.h"
 
 namespace py = pybind11;
 
@@ -32,6 +34,8 @@ namespace {
 struct ExtractionResult {
   hope::Result result;
   py::array labels;
+  // What up from the scene found (level=True), or nothing.
+  std::optional<hope::UpEstimate> levelling;
 };
 
 std::string shapeText(const py::array& array) {
@@ -70,6 +74,11 @@ std::vector<double> numbers(const py::object& value, std::size_t count, const ch
   return out;
 }
 
+Eigen::Vector3d viewpointOf(const py::object& viewpoint) {
+  const auto v = numbers(viewpoint, 3, "viewpoint", "(the sensor's position, reference frame)");
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 // At most one of gravity, quaternion, pose, transform; none means the cloud is already z-up.
 hope::Orientation orientationOf(const py::object& gravity, const py::object& quaternion,
                                 const py::object& pose, const py::object& transform,
@@ -102,10 +111,7 @@ hope::Orientation orientationOf(const py::object& gravity, const py::object& qua
     t.matrix().topRows<3>() = m.topRows<3>();
     orientation = hope::Orientation::fromTransform(t);
   }
-  if (!viewpoint.is_none()) {
-    const auto v = numbers(viewpoint, 3, "viewpoint", "(the sensor's position, reference frame)");
-    orientation = orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
-  }
+  if (!viewpoint.is_none()) orientation = orientation.withViewpoint(viewpointOf(viewpoint));
   return orientation;
 }
 
@@ -158,20 +164,57 @@ class PyExtractor {
 
   ExtractionResult extract(const py::array& points, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
-                           const py::object& transform, const py::object& viewpoint) {
-    const hope::Orientation orientation =
-        orientationOf(gravity, quaternion, pose, transform, viewpoint);
+                           const py::object& transform, const py::object& viewpoint, bool level,
+                           double level_bound) {
+    const bool given =
+        !gravity.is_none() || !quaternion.is_none() || !pose.is_none() || !transform.is_none();
+    // Levelled clouds are in the sensor's frame: the sensor at the origin unless told.
+    hope::Orientation orientation = orientationOf(gravity, quaternion, pose, transform, viewpoint);
+    hope::LevellingParams levelling = hope::LevellingParams::forExtraction(extractor_.params());
+    levelling.max_correction_deg = level_bound;
+    if (level) hope::validate(levelling);  // ValueError naming level_bound's range
     py::array converted;
     const hope::PointsView view = pointsOf(points, converted);
     ExtractionResult out;
     {
       py::gil_scoped_release released;
       std::lock_guard<std::mutex> lock(mutex_);
+      if (level) {
+        if (!estimator_ || estimator_->params().cell != levelling.cell ||
+            estimator_->params().max_correction_deg != levelling.max_correction_deg) {
+          estimator_ = std::make_unique<hope::UpEstimator>(levelling);
+        }
+        out.levelling = given ? estimator_->refine(view, orientation) : estimator_->estimate(view);
+        orientation = out.levelling->orientation;
+        if (!viewpoint.is_none()) {
+          const auto v = viewpointOf(viewpoint);
+          orientation = orientation.withViewpoint(v);
+        }
+      }
       out.result = extractor_.extract(view, orientation);
     }
     if (out.result.finite_points == 0) {
       throw py::value_error("points has no finite point (all " +
                             std::to_string(out.result.input_points) + " are NaN or infinite)");
+    }
+    if (out.levelling && out.levelling->refinement && !out.levelling->applied) {
+      out.result.warnings.push_back("level=True kept the given orientation: " +
+                                    out.levelling->note);
+    }
+    if (!level && !given) {
+      // Nothing said which way is up: say so when the cloud does not look z-up.
+      double planes_area = 0;
+      for (const auto& plane : out.result.planes) planes_area += plane.area;
+      for (const auto& warning :
+           hope::unorientedCloudWarnings(view, planes_area, !viewpoint.is_none())) {
+        out.result.warnings.push_back(warning);
+      }
+    }
+    // Python shows a UserWarning once per calling line (its default filter).
+    for (const auto& warning : out.result.warnings) {
+      if (PyErr_WarnEx(PyExc_UserWarning, ("hope: " + warning).c_str(), 1) < 0) {
+        throw py::error_already_set();  // warnings turned into errors by the caller's filter
+      }
     }
     std::vector<py::ssize_t> shape;
     if (points.ndim() == 3)
@@ -187,6 +230,7 @@ class PyExtractor {
 
  private:
   hope::Extractor extractor_;
+  std::unique_ptr<hope::UpEstimator> estimator_;  // made on the first level=True
   std::mutex mutex_;
 };
 
@@ -254,6 +298,37 @@ py::dict timingsOf(const hope::Result& r) {
   return d;
 }
 
+// The levelling block of hope_extract's JSON.
+py::object levellingOf(const ExtractionResult& r) {
+  if (!r.levelling) return py::none();
+  const hope::UpEstimate& e = *r.levelling;
+  py::dict d;
+  d["source"] = e.refinement ? "refined" : "scene";
+  d["up_in_sensor"] = py::make_tuple(e.up_in_sensor.x(), e.up_in_sensor.y(), e.up_in_sensor.z());
+  d["support_area_m2"] = e.support_area;
+  d["angle_spread_deg"] = e.angle_spread_deg;
+  d["level_surfaces"] = e.level_surfaces;
+  d["level_heights"] = e.level_heights;
+  d["prior"] = hope::toString(e.prior);
+  if (e.prior == hope::UpPrior::kCamera) {
+    d["pitch_deg"] = e.pitch_deg;
+    d["roll_deg"] = e.roll_deg;
+  }
+  if (e.refinement) {
+    d["correction_deg"] = e.correction_deg;
+    d["applied"] = e.applied;
+    d["note"] = e.note;
+  }
+  d["ms"] = e.time_ms;
+  return std::move(d);
+}
+
+py::tuple upInSensorOf(const ExtractionResult& r) {
+  const Eigen::Vector3d up =
+      r.result.sensor_to_reference.linear().transpose() * Eigen::Vector3d::UnitZ();
+  return py::make_tuple(up.x(), up.y(), up.z());
+}
+
 std::string planeRepr(const hope::HorizontalPlane& p) {
   char text[160];
   std::snprintf(text, sizeof(text), "Plane(id=%d, height=%.3f, area=%.3f, num_points=%zu)", p.id,
@@ -318,6 +393,7 @@ py::array depthToCloud(const py::array& depth, const py::object& intrinsics, dou
 
 PYBIND11_MODULE(_hope, m) {
   m.doc() = "HoPE: horizontal plane extraction (Dong et al., Sensors 2018), the C++ core";
+  py::register_exception<hope::LevellingError>(m, "LevellingError", PyExc_ValueError);
 
   py::class_<hope::HorizontalPlane>(m, "Plane", "One horizontal plane (reference frame, metres)")
       .def_readwrite("id", &hope::HorizontalPlane::id)
@@ -370,6 +446,10 @@ PYBIND11_MODULE(_hope, m) {
             return r.result.sensor_to_reference.matrix();
           },
           "4 x 4, the transform applied to the points")
+      .def_property_readonly("up_in_sensor", &upInSensorOf,
+                             "the unit up vector in the input cloud's frame")
+      .def_property_readonly("levelling", &levellingOf,
+                             "what up from the scene found (level=True), else None")
       .def(
           "to_dict",
           [](const ExtractionResult& r) {
@@ -377,6 +457,9 @@ PYBIND11_MODULE(_hope, m) {
             py::list planes;
             for (const auto& p : r.result.planes) planes.append(planeDict(p));
             d["planes"] = planes;
+            d["sensor_to_reference"] = Eigen::Matrix4d(r.result.sensor_to_reference.matrix());
+            d["up_in_sensor"] = upInSensorOf(r);
+            if (r.levelling) d["levelling"] = levellingOf(r);
             d["stats"] = statsOf(r.result);
             d["warnings"] = r.result.warnings;
             d["timings_ms"] = timingsOf(r.result);
@@ -404,9 +487,14 @@ PYBIND11_MODULE(_hope, m) {
       .def("extract", &PyExtractor::extract, py::arg("points"), py::arg("gravity") = py::none(),
            py::arg("quaternion") = py::none(), py::arg("pose") = py::none(),
            py::arg("transform") = py::none(), py::arg("viewpoint") = py::none(),
+           py::arg("level") = false,
+           py::arg("level_bound") = hope::LevellingParams().max_correction_deg,
            "points: N x 3 or H x W x 3 float32/float64 in the sensor frame. Orientation: at "
            "most one of gravity (accelerometer, 3), quaternion (x y z w), pose (tx ty tz qx qy "
-           "qz qw) or transform (4 x 4); none = already z-up. viewpoint: the sensor's position.")
+           "qz qw) or transform (4 x 4); none = already z-up (with a warning when the cloud does "
+           "not look it). level=True: up from the scene, estimated when no orientation is given "
+           "(hope.LevellingError when nothing level is in view), else the given one corrected "
+           "by at most level_bound degrees. viewpoint: the sensor's position.")
       .def_property_readonly("r_xy", [](const PyExtractor& e) { return e.params().r_xy; })
       .def_property_readonly("r_z", [](const PyExtractor& e) { return e.params().r_z; });
 

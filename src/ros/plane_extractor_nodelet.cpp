@@ -30,6 +30,7 @@
 #include "hope/PlaneArray.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/up_estimation.h"
 #include "hope_ros/cloud_conversion.h"
 #include "hope_ros/frame_gaps.h"
 
@@ -58,8 +59,13 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   void onCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onCloudAndImu(const sensor_msgs::PointCloud2ConstPtr& cloud,
                      const sensor_msgs::ImuConstPtr& imu);
-  void process(const sensor_msgs::PointCloud2ConstPtr& cloud, const hope::Orientation& orientation,
-               const std::string& reference_frame);
+  // `orientation` as the source gives it; levelled from the scene here (scene) or refined by it
+  // (refine_orientation), and broadcast as reference_frame_ when `broadcast`.
+  void process(const sensor_msgs::PointCloud2ConstPtr& cloud, hope::Orientation orientation,
+               const std::string& reference_frame, bool broadcast);
+  // Up from the scene (scene), or the given orientation refined by it; false when the frame
+  // is to be skipped (nothing level in view and no earlier up to hold).
+  bool levelFromScene(const hope::PointsView& view, hope::Orientation& orientation);
   hope::Orientation orientationFromImu(const sensor_msgs::Imu& imu, const std::string& cloud_frame);
   // Publishes the gravity-aligned reference frame as a child of the cloud's frame (a frame
   // has one parent in tf; the cloud's frame usually has its own already).
@@ -81,13 +87,17 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   // Parameters fixed at start-up.
-  std::string source_;           // imu, tf, fixed or none
+  std::string source_;           // imu, tf, fixed, scene or none
   std::string reference_frame_;  // output frame (tf: looked up; imu/fixed: broadcast)
   bool lazy_ = true;
   std::string view_frame_;  // empty: not broadcast
   std::optional<Eigen::Vector3d> view_centre_;
   int gravity_window_ = 10;
   hope::Orientation fixed_ = hope::Orientation::identity();
+  bool refine_ = false;  // refine_orientation: the source's orientation corrected by the scene
+  hope::LevellingParams levelling_;
+  // How many frames a scene source may hold the last up when a frame shows nothing level.
+  int level_hold_frames_ = 30;
 
   ros::Publisher planes_pub_, cloud_pub_, markers_pub_;
   ros::Subscriber cloud_sub_;
@@ -127,6 +137,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<hope::Extractor> extractor_;
   std::unique_ptr<hope::PlaneTracker> tracker_;
   std::deque<Eigen::Vector3d> recent_gravity_;
+  std::unique_ptr<hope::UpEstimator> up_estimator_;
+  // scene: up in the sensor frame; refinement: the scene's up in the given reference frame.
+  hope::UpSmoother up_smoother_;
+  int frames_since_level_ = 0;
   boost::shared_ptr<sensor_msgs::PointCloud2> labeled_cloud_;  // the last one published
 
   // Diagnostics.
@@ -136,6 +150,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::size_t time_jumps_ = 0;
   double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
   hope_ros::FrameGapCounter gaps_;  // frames that never reached hope
+  // Up from the scene: frames levelled, refused (held on the last up, or skipped), the last
+  // estimate, and for a refinement the frames left uncorrected and the last correction.
+  std::size_t levelled_ = 0, level_held_ = 0, level_skipped_ = 0, uncorrected_ = 0;
+  std::string last_levelling_, last_level_problem_;
   std::string last_problem_;
   ros::WallTimer diagnostics_timer_;
 };
@@ -161,10 +179,33 @@ void PlaneExtractorNodelet::onInit() {
                 : view_frame_ == "none" ? std::string()
                                         : frameId(view_frame_);
   pnh.param("gravity_window", gravity_window_, 10);
-  if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "none") {
-    NODELET_ERROR("orientation_source '%s' is not one of imu, tf, fixed, none; using none",
+  if (source_ != "imu" && source_ != "tf" && source_ != "fixed" && source_ != "scene" &&
+      source_ != "none") {
+    NODELET_ERROR("orientation_source '%s' is not one of imu, tf, fixed, scene, none; using none",
                   source_.c_str());
     source_ = "none";
+  }
+  pnh.param("refine_orientation", refine_, false);
+  double smoothing = 0.3;
+  pnh.param("level_bound", levelling_.max_correction_deg, levelling_.max_correction_deg);
+  pnh.param("level_smoothing", smoothing, smoothing);
+  pnh.param("level_hold_frames", level_hold_frames_, level_hold_frames_);
+  try {
+    hope::validate(levelling_);
+  } catch (const std::exception& e) {
+    NODELET_ERROR("hope: ~level_bound: %s; using %g", e.what(),
+                  hope::LevellingParams().max_correction_deg);
+    levelling_.max_correction_deg = hope::LevellingParams().max_correction_deg;
+  }
+  if (!(smoothing > 0 && smoothing <= 1)) {
+    NODELET_ERROR("hope: ~level_smoothing must be in (0, 1] (got %g); using 0.3", smoothing);
+    smoothing = 0.3;
+  }
+  up_smoother_ = hope::UpSmoother(smoothing);
+  if (refine_ && (source_ == "scene" || source_ == "none")) {
+    NODELET_WARN("hope: ~refine_orientation applies to imu, tf and fixed; ignored with %s",
+                 source_.c_str());
+    refine_ = false;
   }
   if (source_ == "tf" && reference_frame_.empty()) {
     NODELET_ERROR(
@@ -172,7 +213,7 @@ void PlaneExtractorNodelet::onInit() {
         "using none");
     source_ = "none";
   }
-  if ((source_ == "imu" || source_ == "fixed") && reference_frame_.empty()) {
+  if ((source_ == "imu" || source_ == "fixed" || source_ == "scene") && reference_frame_.empty()) {
     // Broadcast: z up, origin at the sensor. Named after this nodelet, so two hope nodelets
     // never broadcast one frame under two parents ("hope" → hope_gravity).
     reference_frame_ = ownFrame(getName(), "gravity");
@@ -216,7 +257,7 @@ void PlaneExtractorNodelet::onInit() {
   // which never comes once a looping bag sends sim time back.
   diagnostics_timer_ = nh.createWallTimer(
       ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->force_update(); });
-  if (source_ == "imu" || source_ == "fixed") {
+  if (source_ == "imu" || source_ == "fixed" || source_ == "scene") {
     tf_watch_sub_ = nh.subscribe("/tf", 100, &PlaneExtractorNodelet::onTf, this);
   }
 
@@ -233,8 +274,8 @@ void PlaneExtractorNodelet::onInit() {
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 3, changed, changed);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 10, changed, changed);
   }
-  NODELET_INFO("hope: orientation from %s, reference frame '%s', %s", source_.c_str(),
-               reference_frame_.c_str(),
+  NODELET_INFO("hope: orientation from %s%s, reference frame '%s', %s", source_.c_str(),
+               refine_ ? " refined by the scene" : "", reference_frame_.c_str(),
                lazy_ ? "lazy: subscribing to the cloud only while an output has a listener "
                        "(lazy: false processes every cloud)"
                      : "always subscribed");
@@ -303,6 +344,7 @@ void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
     tracker_->reset();
     view_centre_.reset();
     recent_gravity_.clear();
+    up_smoother_.reset();
     std::lock_guard<std::mutex> stats_lock(stats_mutex_);
     gaps_.restart();
     ++time_jumps_;
@@ -391,12 +433,16 @@ void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& clou
   if (source_ == "none") {
     // A cloud already z-up in its own frame: the sensor is at that frame's origin.
     process(cloud, hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()),
-            cloud_frame);
+            cloud_frame, false);
     return;
   }
-  if (source_ == "fixed") {
-    broadcastReference(cloud->header, fixed_);
-    process(cloud, fixed_, reference_frame_);
+  if (source_ == "fixed" || source_ == "scene") {
+    // scene: process() finds up in the cloud itself; the sensor is at its frame's origin.
+    process(cloud,
+            source_ == "fixed"
+                ? fixed_
+                : hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()),
+            reference_frame_, true);
     return;
   }
   // tf: the cloud's frame in the reference frame at the cloud's stamp, translation included.
@@ -404,7 +450,8 @@ void PlaneExtractorNodelet::onCloud(const sensor_msgs::PointCloud2ConstPtr& clou
   try {
     const geometry_msgs::TransformStamped t =
         tf_buffer_->lookupTransform(reference_frame_, cloud_frame, cloud->header.stamp);
-    process(cloud, hope::Orientation::fromTransform(tf2::transformToEigen(t)), reference_frame_);
+    process(cloud, hope::Orientation::fromTransform(tf2::transformToEigen(t)), reference_frame_,
+            false);
   } catch (const std::exception& e) {
     reject(std::string("no transform: ") + e.what());
     NODELET_WARN_THROTTLE(
@@ -462,14 +509,63 @@ void PlaneExtractorNodelet::onCloudAndImu(const sensor_msgs::PointCloud2ConstPtr
     NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud: bad IMU message: %s", e.what());
     return;
   }
-  // Broadcast the gravity-aligned frame so RViz can show the outputs with the camera.
-  broadcastReference(cloud->header, orientation);
-  process(cloud, orientation, reference_frame_);
+  // The gravity-aligned frame is broadcast so that RViz can show the outputs with the camera.
+  process(cloud, orientation, reference_frame_, true);
+}
+
+bool PlaneExtractorNodelet::levelFromScene(const hope::PointsView& view,
+                                           hope::Orientation& orientation) {
+  const double cell = hope::LevellingParams::forExtraction(extractor_->params()).cell;
+  if (!up_estimator_ || up_estimator_->params().cell != cell) {
+    levelling_.cell = cell;  // follows r_xy as dynamic_reconfigure changes it
+    up_estimator_ = std::make_unique<hope::UpEstimator>(levelling_);
+  }
+  if (source_ == "scene") {
+    try {
+      const hope::UpEstimate e = up_estimator_->estimate(view);
+      const Eigen::Vector3d& up = up_smoother_.add(e.up_in_sensor);
+      orientation = hope::levelledTo(orientation, up);
+      frames_since_level_ = 0;
+      std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+      ++levelled_;
+      last_levelling_ = e.describe();
+      return true;
+    } catch (const hope::LevellingError& error) {
+      // A view with nothing level (the camera facing a wall): the last up holds for a while,
+      // since a sensor rarely turns much between two frames; after that, frames are skipped.
+      const bool hold = !up_smoother_.empty() && ++frames_since_level_ <= level_hold_frames_;
+      {
+        std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+        ++(hold ? level_held_ : level_skipped_);
+        last_level_problem_ = error.what();
+      }
+      NODELET_WARN_THROTTLE(10.0, "hope: %s: %s", error.what(),
+                            hold ? "keeping the last up" : "skipping the frame");
+      if (!hold) return false;
+      orientation = hope::levelledTo(orientation, up_smoother_.value());
+      return true;
+    }
+  }
+  // Refinement: the scene's up in the given reference frame (near +z) is what is smoothed, so
+  // that a moving robot's orientation keeps coming from its source.
+  const hope::UpEstimate e = up_estimator_->refine(view, orientation);
+  const Eigen::Matrix3d& rotation = orientation.sensorToReference().linear();
+  std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+  last_levelling_ = e.describe();
+  if (!e.applied) {
+    ++uncorrected_;
+    if (up_smoother_.empty()) return true;
+  } else {
+    up_smoother_.add(rotation * e.up_in_sensor);
+    ++levelled_;
+  }
+  orientation = hope::levelledTo(orientation, rotation.transpose() * up_smoother_.value());
+  return true;
 }
 
 void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& cloud,
-                                    const hope::Orientation& orientation,
-                                    const std::string& reference_frame) {
+                                    hope::Orientation orientation,
+                                    const std::string& reference_frame, bool broadcast) {
   std::lock_guard<std::mutex> lock(processing_mutex_);
   {
     std::lock_guard<std::mutex> pending_lock(pending_mutex_);
@@ -490,6 +586,20 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
                           cloud->header.frame_id.c_str(), problem.c_str());
     return;
   }
+  if (source_ == "scene" || refine_) {
+    try {
+      if (!levelFromScene(view, orientation)) {
+        reject("nothing level in view to find up from: " + last_level_problem_);
+        return;
+      }
+    } catch (const std::exception& e) {
+      reject(e.what());
+      NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud from '%s': %s",
+                            cloud->header.frame_id.c_str(), e.what());
+      return;
+    }
+  }
+  if (broadcast) broadcastReference(cloud->header, orientation);
   // Per-point labels feed only the labeled cloud: left out while nobody listens to it.
   const bool publish_cloud = cloud_pub_.getNumSubscribers() > 0;
   hope::ExtractOutputs outputs;
@@ -605,7 +715,25 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
   status.add("last processing ms", last_ms_);
   status.add("mean processing ms", frames_ ? sum_ms_ / frames_ : 0.0);
   status.add("max processing ms", max_ms_);
-  status.add("orientation source", source_);
+  status.add("orientation source", source_ + (refine_ ? ", refined by the scene" : ""));
+  if (source_ == "scene" || refine_) {
+    status.add("up from the scene: frames levelled", levelled_);
+    if (source_ == "scene") {
+      status.add("up from the scene: frames refused, last up kept", level_held_);
+      status.add("up from the scene: frames refused and skipped", level_skipped_);
+    } else {
+      status.add("up from the scene: frames left uncorrected", uncorrected_);
+    }
+    status.add("up from the scene: last", last_levelling_);
+    if (!last_level_problem_.empty()) {
+      status.add("up from the scene: last refusal", last_level_problem_);
+    }
+    const Eigen::Vector3d up = up_smoother_.value();
+    status.add("up from the scene: smoothed up",
+               up_smoother_.empty() ? std::string("none yet")
+                                    : std::to_string(up.x()) + " " + std::to_string(up.y()) + " " +
+                                          std::to_string(up.z()));
+  }
   status.add("reference frame", reference_frame_);
 }
 

@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -24,6 +26,7 @@
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
 #include "hope/tools/sequence.h"
+#include "hope/up_estimation.h"
 
 namespace {
 
@@ -45,12 +48,21 @@ hope::tools::CommandLine commandLine() {
       .value("--depth-scale", "S", "raw depth units per metre (default 5000, TUM; OpenNI: 1000)");
   cl.section("orientation",
              "of the sensor in the reference frame (z up): at most one of --pose, --quaternion, "
-             "--rpy, --gravity; default: none")
+             "--rpy, --gravity, and/or --level; default: none (the cloud is taken as z-up, with "
+             "a warning when it does not look it)")
       .value("--pose", "\"tx ty tz qx qy qz qw\"",
              "full pose, e.g. a TUM ground-truth line (heights are real)")
       .value("--quaternion", "\"qx qy qz qw\"", "rotation only (normalized; zero/NaN rejected)")
       .value("--rpy", "\"roll pitch yaw\"", "radians, fixed axes x, y, z (R = Rz Ry Rx)")
       .value("--gravity", "\"gx gy gz\"", "accelerometer at rest in the sensor frame (points UP)")
+      .flag("--level",
+            "up from the scene: alone, estimated from the cloud's level surfaces (a camera pitched "
+            "from 15° up to straight down and rolled up to 35°, or a LiDAR within 45° of z; the "
+            "sensor at the origin, heights relative to it); with one of the options above, that "
+            "orientation corrected by at most --level-bound. A scene with nothing level is an "
+            "error, not a guess")
+      .value("--level-bound", "DEG",
+             "the largest correction --level makes to a given orientation (default 5)")
       .value("--viewpoint", "\"x y z\"",
              "where the sensor was, in the reference frame (default: the pose's translation; "
              "the origin for a rotation or a depth image; unknown for a cloud without "
@@ -170,6 +182,36 @@ hope::Orientation rotationOrPose(const Options& o) {
   return hope::Orientation::identity();
 }
 
+bool orientationGiven(const Options& o) {
+  return o.values.count("--pose") || o.values.count("--quaternion") || o.values.count("--rpy") ||
+         o.values.count("--gravity");
+}
+
+// Up from the scene with the extraction's grid size and the --level-bound.
+hope::LevellingParams levellingParams(const Options& o, const hope::Params& params) {
+  if (!o.flag("--level") && o.values.count("--level-bound")) {
+    throw std::invalid_argument("--level-bound goes with --level");
+  }
+  hope::LevellingParams levelling = hope::LevellingParams::forExtraction(params);
+  levelling.max_correction_deg = number(o, "--level-bound", levelling.max_correction_deg);
+  hope::validate(levelling);
+  return levelling;
+}
+
+// --level: `orientation` estimated (nothing else given) or refined (one given) from the cloud;
+// --viewpoint still has the last word on where the sensor was. Says what it found on stderr.
+hope::UpEstimate levelFromScene(const Options& o, hope::UpEstimator& estimator,
+                                const hope::PointsView& cloud, hope::Orientation& orientation) {
+  hope::UpEstimate e =
+      orientationGiven(o) ? estimator.refine(cloud, orientation) : estimator.estimate(cloud);
+  orientation = e.orientation;
+  if (o.values.count("--viewpoint")) {
+    const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
+    orientation = orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
+  }
+  return e;
+}
+
 // The orientation options, with --viewpoint applied. `sensor_frame_cloud`: the points are in
 // the sensor's own frame (a depth image), so the sensor is at the origin when nothing else says.
 hope::Orientation orientation(const Options& o, bool sensor_frame_cloud = false) {
@@ -263,7 +305,10 @@ int runSequence(const Options& o) {
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
     }
   }
-  hope::Extractor extractor(parameters(o));
+  const hope::Params params = parameters(o);
+  hope::Extractor extractor(params);
+  hope::UpEstimator estimator(levellingParams(o, params));
+  const bool level = o.flag("--level");
   hope::TrackerOptions tracker_options;
   if (o.values.count("--tracking"))
     tracker_options.mode = hope::trackingModeFromString(o.values.at("--tracking"));
@@ -281,7 +326,10 @@ int runSequence(const Options& o) {
         "give one orientation source: --groundtruth, --accelerometer, or a fixed one");
   }
   hope::Orientation fixed_orientation = orientation(o);
-  if (fixed) {
+  // --level alone: every frame levelled from its own scene (a folder's groundtruth.txt is not
+  // read); with a source, that source's orientation refined.
+  const bool estimate_each = level && !fixed && !has_gt && !has_acc;
+  if (fixed || estimate_each) {
     seq.source = hope::tools::OrientationSource::kNone;
   } else if (has_acc) {
     seq.source = hope::tools::OrientationSource::kAccelerometer;
@@ -292,7 +340,8 @@ int runSequence(const Options& o) {
     if (!has_gt && !std::filesystem::exists(std::filesystem::path(seq.dir) / "groundtruth.txt")) {
       throw std::invalid_argument("no " + seq.dir +
                                   "/groundtruth.txt: give --groundtruth FILE, --accelerometer "
-                                  "FILE, or one fixed --pose/--quaternion/--rpy/--gravity");
+                                  "FILE, one fixed --pose/--quaternion/--rpy/--gravity, or "
+                                  "--level to level every frame from its scene");
     }
   }
   const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
@@ -319,8 +368,9 @@ int runSequence(const Options& o) {
 
   Progress progress(listing.frames.size(), !o.flag("--quiet"));
   std::set<int> ids;
-  std::size_t total_planes = 0;
-  double extract_ms = 0, track_ms = 0;
+  std::size_t total_planes = 0, processed = 0, refused = 0, uncorrected = 0;
+  std::string first_refusal, first_uncorrected;
+  double extract_ms = 0, track_ms = 0, level_ms = 0;
   for (std::size_t f = 0; f < listing.frames.size(); ++f) {
     const hope::tools::SequenceFrame& frame = listing.frames[f];
     const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
@@ -329,12 +379,38 @@ int runSequence(const Options& o) {
             ? hope::tools::loadCloud(frame.cloud, max_points)
             : hope::tools::loadDepth(frame.depth, overlay_dir.empty() ? "" : frame.rgb, k,
                                      depth_scale);
+    hope::Orientation frame_orientation =
+        seq.source == hope::tools::OrientationSource::kNone ? fixed_orientation : frame.orientation;
+    std::optional<hope::UpEstimate> levelled;
+    if (estimate_each) {
+      try {
+        levelled = estimator.estimate(input.view());
+      } catch (const hope::LevellingError& error) {
+        // A frame with nothing level in view (the camera facing a wall) is skipped, not
+        // guessed: the tracker does not see it, the JSON lines record it.
+        if (refused++ == 0) first_refusal = file + ": " + error.what();
+        if (jsonl.is_open()) {
+          char stamp[40];
+          std::snprintf(stamp, sizeof(stamp), "%.6f", frame.stamp);
+          jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file)
+                << ", \"skipped\": " << hope::tools::jsonString(error.what()) << "}\n";
+        }
+        progress.update(f + 1);
+        continue;
+      }
+      frame_orientation = levelled->orientation;
+    } else if (level) {
+      levelled = estimator.refine(input.view(), frame_orientation);
+      if (!levelled->applied && uncorrected++ == 0) {
+        first_uncorrected = file + ": " + levelled->note;
+      }
+      frame_orientation = levelled->orientation;
+    }
+    if (levelled) level_ms += levelled->time_ms;
+    ++processed;
     hope::ExtractOutputs wanted;
     wanted.point_labels = !overlay_dir.empty();
-    hope::Result result = extractor.extract(
-        input.view(),
-        seq.source == hope::tools::OrientationSource::kNone ? fixed_orientation : frame.orientation,
-        wanted);
+    hope::Result result = extractor.extract(input.view(), frame_orientation, wanted);
     const auto start = std::chrono::steady_clock::now();
     const std::vector<hope::TrackEvent> events = tracker.update(result.planes, frame.stamp);
     track_ms +=
@@ -346,8 +422,10 @@ int runSequence(const Options& o) {
     if (jsonl.is_open()) {
       char stamp[40];
       std::snprintf(stamp, sizeof(stamp), "%.6f", frame.stamp);
-      jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file)
-            << ", \"planes\": [";
+      jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file) << ", "
+            << hope::tools::orientationJson(result.sensor_to_reference);
+      if (levelled) jsonl << ", \"levelling\": " << hope::tools::levellingJson(*levelled);
+      jsonl << ", \"planes\": [";
       for (std::size_t p = 0; p < result.planes.size(); ++p) {
         jsonl << (p ? ", " : "");
         hope::tools::writePlaneJson(jsonl, result.planes[p]);
@@ -374,13 +452,25 @@ int runSequence(const Options& o) {
     if (jsonl.fail()) hope::tools::throwCannotWrite(jsonl_file->path());
     jsonl_file->commit();
   }
-  const double n = static_cast<double>(listing.frames.size());
+  if (refused > 0) {
+    std::cerr << "hope_extract: warning: " << refused << " frame(s) skipped with nothing level in "
+              << "view to find up from (the first: " << first_refusal << ")\n";
+  }
+  if (uncorrected > 0) {
+    std::cerr << "hope_extract: warning: --level kept the given orientation of " << uncorrected
+              << " frame(s) (the first: " << first_uncorrected << ")\n";
+  }
+  const double n = static_cast<double>(std::max<std::size_t>(processed, 1));
   std::printf(
       "%zu frame(s) of %s (%s, %s tracking): %.1f planes/frame, %zu distinct ids, extraction "
-      "%.2f ms/frame, tracking %.3f ms/frame\n",
-      listing.frames.size(), seq.dir.c_str(), listing.layout.c_str(),
-      hope::toString(tracker_options.mode), total_planes / n, ids.size(), extract_ms / n,
-      track_ms / n);
+      "%.2f ms/frame, tracking %.3f ms/frame",
+      processed, seq.dir.c_str(), listing.layout.c_str(), hope::toString(tracker_options.mode),
+      total_planes / n, ids.size(), extract_ms / n, track_ms / n);
+  if (level) {
+    std::printf(", %s from the scene %.2f ms/frame", estimate_each ? "levelling" : "refinement",
+                level_ms / n);
+  }
+  std::printf("%s\n", refused ? (", " + std::to_string(refused) + " skipped").c_str() : "");
   return 0;
 }
 
@@ -402,9 +492,13 @@ int run(const Options& o) {
     throw std::invalid_argument("--rgb, --intrinsics and --depth-scale go with --depth");
   }
 
-  hope::Extractor extractor(parameters(o));  // validates before any file is read
+  const hope::Params params = parameters(o);
+  hope::Extractor extractor(params);  // validates before any file is read
+  const hope::LevellingParams levelling = levellingParams(o, params);
   const int repeat = wholeNumber(o, "--repeat", 1, 1, 100000);
-  const hope::Orientation pose = orientation(o, has_depth);
+  const bool level = o.flag("--level");
+  // A cloud levelled from the scene is taken to be in its sensor's frame, as a depth image is.
+  hope::Orientation pose = orientation(o, has_depth || level);
   const std::uint64_t max_points = maxPoints(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const hope::PinholeIntrinsics k = intrinsics(o);
@@ -424,6 +518,22 @@ int run(const Options& o) {
     input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale);
   }
 
+  std::optional<hope::UpEstimate> levelled;
+  if (level) {
+    hope::UpEstimator estimator(levelling);
+    levelled = levelFromScene(o, estimator, input.view(), pose);
+    if (!o.flag("--quiet")) {
+      std::cerr << "hope_extract: " << (levelled->refinement ? "refined" : "levelled")
+                << " from the scene in " << std::fixed << std::setprecision(2) << levelled->time_ms
+                << " ms: " << levelled->describe() << "\n";
+      std::cerr.unsetf(std::ios::floatfield);
+    }
+    if (levelled->refinement && !levelled->applied) {
+      std::cerr << "hope_extract: warning: --level kept the given orientation: " << levelled->note
+                << "\n";
+    }
+  }
+
   // Per-point labels only for the outputs that show them: 4 bytes a point saved otherwise.
   hope::ExtractOutputs wanted;
   wanted.point_labels = outputs.count("--labels") || outputs.count("--overlay");
@@ -433,6 +543,15 @@ int run(const Options& o) {
   for (int k = 1; k < repeat; ++k) {
     result = extractor.extract(input.view(), pose, wanted);
     steady_ms.push_back(result.timings.total_ms);
+  }
+  if (!level && !orientationGiven(o)) {
+    // Nothing said which way is up: the cloud was taken as z-up. Say so when it does not look it.
+    double planes_area = 0;
+    for (const auto& plane : result.planes) planes_area += plane.area;
+    for (const auto& warning :
+         hope::unorientedCloudWarnings(input.view(), planes_area, pose.viewpoint().has_value())) {
+      result.warnings.push_back(warning);
+    }
   }
   for (const auto& warning : result.warnings)
     std::cerr << "hope_extract: warning: " << warning << "\n";
@@ -447,8 +566,9 @@ int run(const Options& o) {
   }
 
   if (outputs.count("--json")) {
-    hope::tools::writeText(outputs.at("--json"),
-                           [&](std::ostream& out) { hope::tools::writeJson(out, result); });
+    hope::tools::writeText(outputs.at("--json"), [&](std::ostream& out) {
+      hope::tools::writeJson(out, result, levelled ? &*levelled : nullptr);
+    });
   }
   if (outputs.count("--labels")) {
     std::vector<std::uint32_t> labels(result.point_labels.size());

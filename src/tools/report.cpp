@@ -86,14 +86,48 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
   out << "]}";
 }
 
-void writeJson(std::ostream& out, const Result& result) {
+std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference) {
+  const Eigen::Matrix4d m = sensor_to_reference.matrix();
+  std::string text = "\"sensor_to_reference\": [";
+  for (int r = 0; r < 4; ++r) {
+    text += r ? ", [" : "[";
+    for (int c = 0; c < 4; ++c) text += (c ? ", " : "") + number(m(r, c), 9);
+    text += "]";
+  }
+  const Eigen::Vector3d up = sensor_to_reference.linear().transpose() * Eigen::Vector3d::UnitZ();
+  return text + "], \"up_in_sensor\": [" + number(up.x(), 9) + ", " + number(up.y(), 9) + ", " +
+         number(up.z(), 9) + "]";
+}
+
+std::string levellingJson(const UpEstimate& e) {
+  std::string text = std::string("{\"source\": \"") + (e.refinement ? "refined" : "scene") +
+                     "\", \"up_in_sensor\": " + vec3(e.up_in_sensor) +
+                     ", \"support_area_m2\": " + number(e.support_area) +
+                     ", \"angle_spread_deg\": " + number(e.angle_spread_deg) +
+                     ", \"level_surfaces\": " + std::to_string(e.level_surfaces) +
+                     ", \"level_heights\": " + std::to_string(e.level_heights) + ", \"prior\": \"" +
+                     toString(e.prior) + "\"";
+  if (e.prior == UpPrior::kCamera) {
+    text += ", \"pitch_deg\": " + number(e.pitch_deg) + ", \"roll_deg\": " + number(e.roll_deg);
+  }
+  if (e.refinement) {
+    text += ", \"correction_deg\": " + number(e.correction_deg) +
+            ", \"applied\": " + (e.applied ? "true" : "false") + ", \"note\": \"" + escape(e.note) +
+            "\"";
+  }
+  return text + ", \"ms\": " + number(e.time_ms) + "}";
+}
+
+void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling) {
   out << "{\n  \"planes\": [";
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     out << (k ? "," : "") << "\n    ";
     writePlaneJson(out, result.planes[k]);
   }
   const StageTimings& t = result.timings;
-  out << "\n  ],\n  \"stats\": {\"input_points\": " << result.input_points
+  out << "\n  ],\n  " << orientationJson(result.sensor_to_reference) << ",\n";
+  if (levelling) out << "  \"levelling\": " << levellingJson(*levelling) << ",\n";
+  out << "  \"stats\": {\"input_points\": " << result.input_points
       << ", \"finite_points\": " << result.finite_points << ", \"voxels\": " << result.voxels
       << ", \"candidates\": " << result.candidates << ", \"clusters\": " << result.clusters
       << ", \"rejected_by_refinement\": " << result.rejected_by_refinement

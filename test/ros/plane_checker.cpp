@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -465,6 +466,42 @@ TEST(HopeNodelet, DiagnosticsGoOnAfterTimeJumpsBack) {
   }
   ASSERT_FALSE(after.isZero()) << "the bag never looped (no jump back of /clock)";
   EXPECT_GE(later, 2) << "diagnostics stopped after the clock went back";
+}
+
+TEST(HopeNodelet, DiagnosticsCountTheExpectedKey) {
+  // e.g. "up from the scene: frames levelled": the key must appear with a count above zero.
+  ros::NodeHandle nh, pnh("~");
+  const std::string key = pnh.param<std::string>("expected_diagnostic", "");
+  if (key.empty()) GTEST_SKIP() << "not asked for";
+  std::mutex mutex;
+  double best = -1;
+  std::string seen;
+  ros::Subscriber diagnostics = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10,
+      boost::function<void(const diagnostic_msgs::DiagnosticArray::ConstPtr&)>(
+          [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+            for (const auto& status : m->status) {
+              if (status.name.find("processing") == std::string::npos) continue;
+              for (const auto& value : status.values) {
+                if (value.key != key) continue;
+                std::lock_guard<std::mutex> lock(mutex);
+                seen = value.value;
+                best = std::max(best, std::atof(value.value.c_str()));
+              }
+            }
+          }));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (ros::ok() && ros::WallTime::now() < until) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (best > 0) break;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_GT(best, 0) << "diagnostics key '" << key << "' last read '" << seen << "'";
 }
 
 // Resident memory (kB) of the process whose command line holds `needle`, or -1.

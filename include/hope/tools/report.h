@@ -5,6 +5,7 @@
 #include <string>
 
 #include "hope/extractor.h"
+#include "hope/up_estimation.h"
 
 namespace hope {
 namespace tools {
@@ -13,8 +14,18 @@ namespace tools {
 void printTable(std::ostream& out, const Result& result);
 
 // {"planes": [{"id", "height", "bbox", "centroid", "normal", "area", "num_points", "hull",
-// …}], "stats": {…}, "timings_ms": {…}}
-void writeJson(std::ostream& out, const Result& result);
+// …}], "sensor_to_reference": 4×4 row-major, "up_in_sensor": [x, y, z], "levelling": {…} (when
+// up was estimated or refined from the scene), "stats": {…}, "timings_ms": {…}}
+void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling = nullptr);
+
+// The orientation a result was extracted with, as JSON members (no braces):
+// "sensor_to_reference": [[…], […], […], […]], "up_in_sensor": [x, y, z].
+std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference);
+
+// What up from the scene found, as a JSON object: "source" ("scene" or "refined"), "up_in_sensor",
+// "support_area_m2", "angle_spread_deg", "level_surfaces", "level_heights", "prior", "pitch_deg",
+// "roll_deg", "ms", and for a refinement "correction_deg", "applied" and "note".
+std::string levellingJson(const UpEstimate& estimate);
 
 // One plane as a JSON object on one line: every field of hope::HorizontalPlane.
 void writePlaneJson(std::ostream& out, const HorizontalPlane& plane);

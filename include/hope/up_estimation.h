@@ -1,0 +1,195 @@
+// Up from the scene: the sensor's up direction estimated from the cloud itself, an orientation
+// source for sensors without an IMU or tf (the paper's §2.2 takes the orientation "by
+// pre-calibration or an IMU"), and the refinement of a given orientation by the scene.
+//
+// Level structure (a floor, table tops, a ground, a ceiling) is what makes up observable: its
+// surfaces share one normal, and that normal is up. The estimate
+//  1. reads a sample of the cloud (every k-th row and column of an image, every k-th point of
+//     an unorganized cloud; at most LevellingParams::max_points), voxelizes it on a cubic grid
+//     in the sensor's own frame (the grid filter with r_z = r_xy, since no direction is special
+//     yet) and takes each cell's normal as the pipeline does (normal_estimation.h);
+//  2. finds the directions that many normals share (a histogram on the sphere, peaks only where
+//     the prior admits up: see UpPrior);
+//  3. refines each such direction: the cells whose normal lies within a few degrees of it are
+//     joined into connected patches at one height, and up becomes the direction that makes all
+//     patches flattest at once (the least-variance direction of the patches' pooled scatter:
+//     parallel surfaces at different heights all count, each with its own offset); repeated with
+//     a narrowing tolerance;
+//  4. keeps the direction with the most supporting level area (weighted by the prior's
+//     preference for a camera that is not looking straight down), or refuses.
+// A refinement (refine()) runs step 3 from the given orientation's up and accepts the result
+// within a bound.
+//
+// Refusal. A scene with no level patch of LevellingParams::min_support_area gives no evidence
+// (a wall seen at an angle, a lone sphere, an empty cloud): LevellingError. So does a camera
+// that sees a single surface head-on and nothing else level: a wall in front of a level camera
+// and a floor under a camera looking straight down are the same picture.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/gravity_alignment.h"
+#include "hope/grid_filter.h"
+#include "hope/params.h"
+#include "hope/points_view.h"
+
+namespace hope {
+
+namespace detail {
+class LevelFit;
+}
+
+// Where up may lie before the scene is looked at.
+enum class UpPrior {
+  // kCamera for an image-like organized cloud or an unorganized one that lies in front of its
+  // origin (every point at z > 0: a camera's optical frame); kZUp otherwise.
+  kAuto,
+  // A camera: the image's top is up, pitched anywhere from 15° above level to straight down,
+  // rolled by at most 35°. The camera's axes come from the cloud's layout (the direction rows
+  // advance in, the mean viewing direction) when it is organized, else the optical frame's
+  // (x right, y down, z forward).
+  kCamera,
+  // A LiDAR or a map: up within 45° of the cloud's +z.
+  kZUp,
+};
+
+struct LevellingParams {
+  // Edge of the levelling grid's cubic cells, metres (forExtraction: twice the extraction's
+  // r_xy); coarsened where the sample is too sparse for it (see UpEstimator::buildGrid).
+  double cell = 0.1;
+  // At most this many points are read.
+  std::size_t max_points = 20000;
+  // refine(): the largest correction of the given orientation accepted, degrees.
+  double max_correction_deg = 5.0;
+  // Less level area than this (m², footprint at cell size) is no evidence.
+  double min_support_area = 0.05;
+  UpPrior prior = UpPrior::kAuto;
+
+  // The levelling that goes with an extraction: cells of 2·r_xy. Level surfaces are wide, and
+  // cells twice the extraction's are a quarter as many to fit (on the TUM frame the estimate
+  // took 1.65 ms with 5 cm cells, … with 10 cm, at the same accuracy: docs/evaluation.md §8).
+  static LevellingParams forExtraction(const Params& params);
+};
+
+// Throws std::invalid_argument naming the parameter and its accepted range.
+void validate(const LevellingParams& params);
+
+struct UpEstimate {
+  // The unit up vector in the input cloud's frame.
+  Eigen::Vector3d up_in_sensor = Eigen::Vector3d::UnitZ();
+  // The orientation to extract with. estimate(): the smallest rotation taking up to +z, the
+  // sensor at the origin (heights relative to the sensor, as with a gravity vector). refine():
+  // the given orientation turned about the sensor by `correction_deg` (or unchanged when the
+  // correction was not applied).
+  Orientation orientation = Orientation::identity();
+  // How sure: the level area that fixed up (footprint at cell size, m²), the RMS angle between
+  // its cells' normals and up, how many connected level surfaces and distinct heights it has.
+  double support_area = 0;
+  double angle_spread_deg = 0;
+  int level_surfaces = 0;
+  int level_heights = 0;
+  // The prior that was used, and for a camera its pitch (down positive) and roll, degrees.
+  UpPrior prior = UpPrior::kAuto;
+  double pitch_deg = 0, roll_deg = 0;
+  // refine() only: the angle between the given up and the scene's, whether the correction
+  // was applied, and why not when it was not.
+  bool refinement = false;
+  double correction_deg = 0;
+  bool applied = true;
+  std::string note;
+  double time_ms = 0;
+  std::size_t sample_points = 0;
+  double cell = 0;  // the cell size finally used
+
+  // One line: up, support, spread, surfaces (and the correction for a refinement).
+  std::string describe() const;
+};
+
+// The scene gives no evidence of up (see the file comment). what() says why and names the
+// other orientation sources.
+class LevellingError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+const char* toString(UpPrior prior);
+
+class UpEstimator {
+ public:
+  // Throws std::invalid_argument for out-of-range parameters.
+  explicit UpEstimator(const LevellingParams& params = LevellingParams());
+  ~UpEstimator();
+  UpEstimator(UpEstimator&&) noexcept;
+  UpEstimator& operator=(UpEstimator&&) noexcept;
+  const LevellingParams& params() const { return params_; }
+
+  // Up with no prior orientation. Throws LevellingError when the scene shows no level
+  // structure, std::invalid_argument for a cloud that cannot be a scene in metres (as the
+  // extractor does). Reuses its buffers: one estimator must not run two clouds at once.
+  UpEstimate estimate(const PointsView& cloud);
+
+  // The given orientation corrected so that the scene's level surfaces come out level, by at
+  // most params().max_correction_deg. Never throws for lack of evidence: the given orientation
+  // is then kept (applied = false, note says why).
+  UpEstimate refine(const PointsView& cloud, const Orientation& given);
+
+ private:
+  void sample(const PointsView& cloud, UpPrior prior);
+  void buildGrid(double cell);
+  std::vector<Eigen::Vector3d> histogramPeaks() const;
+  bool admissible(const Eigen::Vector3d& up) const;
+  void describePrior(const Eigen::Vector3d& up, UpEstimate& e) const;
+
+  LevellingParams params_;
+  std::vector<Eigen::Vector3f> sample_;
+  std::size_t finite_points_ = 0;
+  UpPrior prior_ = UpPrior::kZUp;
+  // Camera axes in the cloud's frame (kCamera): right, image down, forward.
+  Eigen::Vector3d right_ = Eigen::Vector3d::UnitX(), down_ = Eigen::Vector3d::UnitY(),
+                  forward_ = Eigen::Vector3d::UnitZ();
+  bool sensor_at_origin_ = true;
+  VoxelGrid grid_;
+  std::vector<Eigen::Vector3f> normals_;  // per voxel, facing the sensor when it is known
+  // The fit's view of the grid (src/core/level_fit.h), behind a pointer: private to the core.
+  std::unique_ptr<detail::LevelFit> fit_;
+};
+
+// `given` turned about the sensor (its position and yaw kept) so that `up_in_sensor`, a unit
+// vector in the cloud's frame, becomes the reference frame's +z.
+Orientation levelledTo(const Orientation& given, const Eigen::Vector3d& up_in_sensor);
+
+// Up over a stream of frames (the nodelet): each frame's direction blended into a running one,
+// so that one view's noise does not rock the reference frame, while a direction more than
+// `reset_deg` from the running one (a hand-held sensor that turned) starts it afresh.
+class UpSmoother {
+ public:
+  // `weight`: the share of each new frame, in (0, 1]; 1 keeps no history.
+  explicit UpSmoother(double weight = 0.3, double reset_deg = 10.0);
+  // Adds one frame's unit direction; returns the running one.
+  const Eigen::Vector3d& add(const Eigen::Vector3d& up);
+  bool empty() const { return frames_ == 0; }
+  const Eigen::Vector3d& value() const { return value_; }
+  // Frames since the running direction started (afresh).
+  int frames() const { return frames_; }
+  void reset() { frames_ = 0; }
+
+ private:
+  double weight_, cos_reset_;
+  Eigen::Vector3d value_ = Eigen::Vector3d::UnitZ();
+  int frames_ = 0;
+};
+
+// What the cloud looks like when no orientation was given: warnings for the CLI and Python
+// when it does not look z-up (a camera's optical frame, or no level surface found under the
+// assumption), and when an unorganized z-up cloud has no viewpoint (scan-gap bridging off).
+// `planes_area` is the total area of the planes found under the z-up assumption.
+std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud, double planes_area,
+                                                 bool viewpoint_known);
+
+}  // namespace hope

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <set>
@@ -187,6 +188,118 @@ TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {
   const cv::Mat overlay = cv::imread(dir_ + "/o.png");
   EXPECT_EQ(overlay.cols, 640);
   EXPECT_EQ(overlay.rows, 480);
+}
+
+// The three numbers after `"key": [` in `json` (from the position `from` on).
+Eigen::Vector3d vectorAfter(const std::string& json, const std::string& key,
+                            std::size_t from = 0) {
+  const std::size_t at = json.find("\"" + key + "\": [", from);
+  if (at == std::string::npos) return Eigen::Vector3d::Constant(NAN);
+  std::istringstream in(json.substr(at + key.size() + 5));
+  Eigen::Vector3d v;
+  char comma;
+  in >> v.x() >> comma >> v.y() >> comma >> v.z();
+  return v;
+}
+
+double degreesBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+// The world's +z in the frame of a camera at pose "tx ty tz qx qy qz qw".
+Eigen::Vector3d upOfPose(const std::string& pose) {
+  std::istringstream in(pose);
+  double t[3], q[4];
+  in >> t[0] >> t[1] >> t[2] >> q[0] >> q[1] >> q[2] >> q[3];
+  return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).toRotationMatrix().transpose() *
+         Eigen::Vector3d::UnitZ();
+}
+
+// No IMU, no pose: --level finds up from the demo room itself (heights then relative to the
+// camera, 1.5 m above the floor); with a gravity vector 3° off it corrects it; with nothing at
+// all hope_extract says the cloud looks like a camera's and names the options; a wall alone is
+// refused; a sequence without poses is levelled frame by frame.
+TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
+  ASSERT_EQ(std::system((std::string(HOPE_SYNTH_BIN) + " --out " + dir_ + " >/dev/null").c_str()),
+            0);
+  const std::string pose = slurp(dir_ + "/pose.txt");
+  const Eigen::Vector3d truth = upOfPose(pose);
+  const double camera_height = std::stod(pose.substr(pose.find(' ', pose.find(' ') + 1)));
+  const std::string depth = "--depth " + dir_ + "/depth.png";
+
+  const CliRun levelled = run(depth + " --level --json " + dir_ + "/l.json");
+  ASSERT_EQ(levelled.exit_code, 0) << levelled.output;
+  EXPECT_NE(levelled.output.find("levelled from the scene"), std::string::npos);
+  const std::string json = slurp(dir_ + "/l.json");
+  EXPECT_LT(degreesBetween(vectorAfter(json, "up_in_sensor"), truth), 0.5) << json.substr(0, 600);
+  EXPECT_NE(json.find("\"levelling\": {\"source\": \"scene\""), std::string::npos);
+  EXPECT_NE(json.find("\"sensor_to_reference\": [["), std::string::npos);
+  bool table = false;  // 0.75 m above the floor
+  for (std::size_t at = json.find("\"height\": "); at != std::string::npos;
+       at = json.find("\"height\": ", at + 1)) {
+    table = table || std::fabs(std::stod(json.substr(at + 10)) - (0.75 - camera_height)) < 0.02;
+  }
+  EXPECT_TRUE(table) << json.substr(0, 2000);
+
+  const Eigen::Vector3d axis = truth.cross(Eigen::Vector3d(0.3, 0.5, 0.8)).normalized();
+  const Eigen::Vector3d off = Eigen::AngleAxisd(3 * M_PI / 180, axis) * truth;
+  std::ostringstream gravity;
+  gravity << std::setprecision(9) << off.x() << " " << off.y() << " " << off.z();
+  const CliRun refined =
+      run(depth + " --gravity \"" + gravity.str() + "\" --level --quiet --json " + dir_ + "/r.json");
+  ASSERT_EQ(refined.exit_code, 0) << refined.output;
+  const std::string refined_json = slurp(dir_ + "/r.json");
+  EXPECT_NE(refined_json.find("\"source\": \"refined\""), std::string::npos);
+  EXPECT_NE(refined_json.find("\"applied\": true"), std::string::npos);
+  EXPECT_LT(degreesBetween(vectorAfter(refined_json, "up_in_sensor"), truth), 0.5);
+  // Without --level the given gravity is what the JSON reports.
+  ASSERT_EQ(run(depth + " --gravity \"" + gravity.str() + "\" --quiet --json " + dir_ + "/g.json")
+                .exit_code,
+            0);
+  EXPECT_LT(degreesBetween(vectorAfter(slurp(dir_ + "/g.json"), "up_in_sensor"), off), 1e-4);
+
+  const CliRun unoriented = run(depth + " --quiet");
+  ASSERT_EQ(unoriented.exit_code, 0) << unoriented.output;
+  EXPECT_NE(unoriented.output.find("optical frame"), std::string::npos) << unoriented.output;
+  EXPECT_NE(unoriented.output.find("--level"), std::string::npos) << unoriented.output;
+
+  const CliRun bound_alone = run(depth + " --level-bound 3");
+  EXPECT_EQ(bound_alone.exit_code, 2) << bound_alone.output;
+  EXPECT_NE(bound_alone.output.find("--level-bound goes with --level"), std::string::npos);
+
+  pcl::PointCloud<pcl::PointXYZ> wall;  // 3 m in front of the camera, nothing else
+  for (double u = -1; u < 1; u += 0.01) {
+    for (double v = -1; v < 1; v += 0.01) wall.push_back(pcl::PointXYZ(u, v, 3.0));
+  }
+  ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/wall.pcd", wall), 0);
+  const CliRun refused = run("--input " + dir_ + "/wall.pcd --level");
+  EXPECT_NE(refused.exit_code, 0) << refused.output;
+  EXPECT_NE(refused.output.find("cannot find up from the scene"), std::string::npos);
+  EXPECT_NE(refused.output.find("--gravity"), std::string::npos) << refused.output;
+
+  // A sequence without poses: each frame levelled by itself, against the poses it was made with.
+  const std::string seq = dir_ + "/seq";
+  ASSERT_EQ(runTool(HOPE_SYNTH_BIN, "--out " + seq + " --sequence rpy --frames 4").exit_code, 0);
+  std::map<std::string, Eigen::Vector3d> true_up;  // by stamp, as written
+  std::istringstream groundtruth(slurp(seq + "/groundtruth.txt"));
+  for (std::string line; std::getline(groundtruth, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    true_up[line.substr(0, line.find(' '))] = upOfPose(line.substr(line.find(' ') + 1));
+  }
+  const CliRun sequence = run("--sequence " + seq + " --level --quiet --jsonl " + dir_ + "/s.jsonl");
+  ASSERT_EQ(sequence.exit_code, 0) << sequence.output;
+  EXPECT_NE(sequence.output.find("levelling from the scene"), std::string::npos) << sequence.output;
+  std::istringstream lines(slurp(dir_ + "/s.jsonl"));
+  int frames = 0;
+  for (std::string line; std::getline(lines, line); ++frames) {
+    EXPECT_NE(line.find("\"levelling\": {\"source\": \"scene\""), std::string::npos) << line;
+    const double stamp = std::stod(line.substr(line.find(':') + 1));
+    const auto nearest = std::min_element(true_up.begin(), true_up.end(), [&](auto& a, auto& b) {
+      return std::fabs(std::stod(a.first) - stamp) < std::fabs(std::stod(b.first) - stamp);
+    });
+    EXPECT_LT(degreesBetween(vectorAfter(line, "up_in_sensor"), nearest->second), 0.5) << line;
+  }
+  EXPECT_EQ(frames, 4);
 }
 
 // The LiDAR path a new user takes: hope_synth writes a VLP-16 scan as a driver would publish it

@@ -8,6 +8,7 @@ import os
 import subprocess
 import tempfile
 import unittest
+import warnings
 
 import cv2
 import numpy as np
@@ -15,6 +16,19 @@ import numpy as np
 import hope
 
 TUM_FREIBURG1 = (517.3, 516.5, 318.6, 255.3)  # the demo camera's intrinsics (hope_synth)
+
+
+def up_in_sensor(pose):
+    """The world's +z in the frame of a sensor at pose (tx ty tz qx qy qz qw): R^T z."""
+    x, y, z, w = pose[3:]
+    # The third row of R(q), which is R^T's third column.
+    return np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
+
+
+def degrees_between(a, b):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    cosine = np.dot(a, b) / np.linalg.norm(a) / np.linalg.norm(b)
+    return np.degrees(np.arccos(np.clip(cosine, -1, 1)))
 
 
 def read_truth(path):
@@ -161,6 +175,58 @@ class DemoRoom(unittest.TestCase):
         for true_height, name in self.truth:
             self.assertLess(min(abs(h - true_height) for h in heights), 0.01, name)
 
+    def test_level_finds_up_from_the_scene(self):
+        # No orientation: up from the floor, table, cabinet and treads; heights relative to the
+        # camera, which hope_synth puts 1.5 m above the floor.
+        result = hope.Extractor().extract(self.points, level=True)
+        truth = up_in_sensor(self.pose)
+        self.assertLess(degrees_between(result.up_in_sensor, truth), 0.5)
+        self.assertLess(degrees_between(result.levelling["up_in_sensor"], truth), 0.5)
+        self.assertEqual(result.levelling["source"], "scene")
+        self.assertEqual(result.levelling["prior"], "camera")
+        self.assertGreater(result.levelling["support_area_m2"], 1.0)
+        heights = [p.height for p in result.planes]
+        for true_height, name in self.truth:
+            relative = true_height - self.pose[2]
+            self.assertLess(min(abs(h - relative) for h in heights), 0.02, name)
+        self.assertEqual(result.to_dict()["levelling"]["source"], "scene")
+        np.testing.assert_allclose(result.to_dict()["up_in_sensor"], result.up_in_sensor)
+
+    def test_level_refines_a_given_gravity_within_its_bound(self):
+        truth = up_in_sensor(self.pose)
+        axis = np.cross(truth, [0.3, 0.5, 0.8])
+        axis /= np.linalg.norm(axis)
+        angle = np.radians(3.0)  # Rodrigues: truth turned 3° about axis
+        off = (truth * np.cos(angle) + np.cross(axis, truth) * np.sin(angle) +
+               axis * np.dot(axis, truth) * (1 - np.cos(angle)))
+        refined = hope.Extractor().extract(self.points, gravity=tuple(off), level=True)
+        self.assertEqual(refined.levelling["source"], "refined")
+        self.assertTrue(refined.levelling["applied"])
+        self.assertAlmostEqual(refined.levelling["correction_deg"], 3.0, delta=0.5)
+        self.assertLess(degrees_between(refined.up_in_sensor, truth), 0.5)
+        # A bound under the error keeps the given gravity, and says so.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            kept = hope.Extractor().extract(self.points, gravity=tuple(off), level=True,
+                                            level_bound=1.0)
+        self.assertFalse(kept.levelling["applied"])
+        self.assertLess(degrees_between(kept.up_in_sensor, off), 1e-6)
+        self.assertTrue(any("kept the given orientation" in str(w.message) for w in caught))
+        self.assertRaisesRegex(ValueError, "max_correction", hope.Extractor().extract,
+                               self.points, level=True, level_bound=60.0)
+
+    def test_no_orientation_on_a_camera_cloud_warns_and_names_the_options(self):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = hope.Extractor().extract(self.points)
+        self.assertEqual(len(result.warnings), 1, result.warnings)
+        self.assertIn("optical frame", result.warnings[0])
+        self.assertIn("level=True", result.warnings[0])
+        self.assertTrue(any(issubclass(w.category, UserWarning) and
+                            "optical frame" in str(w.message) for w in caught))
+        # With an orientation there is nothing to say.
+        self.assertEqual(hope.Extractor().extract(self.points, pose=self.pose).warnings, [])
+
     def test_tracker_keeps_every_id_on_a_second_view(self):
         for mode in ("improved", "paper"):
             tracker = hope.PlaneTracker(mode=mode)
@@ -224,6 +290,14 @@ class BadInput(unittest.TestCase):
                               self.extractor.extract, self.floor, quaternion=(0, 0, 1))
         self.assertRaisesWith(ValueError, "quaternion", self.extractor.extract, self.floor,
                               quaternion=(0, 0, 0, 0))
+
+    def test_level_refuses_a_wall_and_names_the_other_sources(self):
+        # A wall 3 m in front of a camera, and nothing else: no evidence of up.
+        u, v = np.meshgrid(np.arange(-1, 1, 0.01), np.arange(-1, 1, 0.01))
+        wall = np.stack([u, v, np.full_like(u, 3.0)], -1).reshape(-1, 3).astype(np.float32)
+        self.assertTrue(issubclass(hope.LevellingError, ValueError))
+        self.assertRaisesWith(hope.LevellingError, "gravity", self.extractor.extract, wall,
+                              level=True)
 
     def test_bad_parameters_name_the_parameter(self):
         self.assertRaisesWith(ValueError, "r_xy", hope.Extractor, r_xy=-1.0)

@@ -191,8 +191,7 @@ TEST_F(Cli, SynthThenExtractFindsThePlanesWritesJsonLabelsAndOverlay) {
 }
 
 // The three numbers after `"key": [` in `json` (from the position `from` on).
-Eigen::Vector3d vectorAfter(const std::string& json, const std::string& key,
-                            std::size_t from = 0) {
+Eigen::Vector3d vectorAfter(const std::string& json, const std::string& key, std::size_t from = 0) {
   const std::size_t at = json.find("\"" + key + "\": [", from);
   if (at == std::string::npos) return Eigen::Vector3d::Constant(NAN);
   std::istringstream in(json.substr(at + key.size() + 5));
@@ -245,8 +244,8 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
   const Eigen::Vector3d off = Eigen::AngleAxisd(3 * M_PI / 180, axis) * truth;
   std::ostringstream gravity;
   gravity << std::setprecision(9) << off.x() << " " << off.y() << " " << off.z();
-  const CliRun refined =
-      run(depth + " --gravity \"" + gravity.str() + "\" --level --quiet --json " + dir_ + "/r.json");
+  const CliRun refined = run(depth + " --gravity \"" + gravity.str() +
+                             "\" --level --quiet --json " + dir_ + "/r.json");
   ASSERT_EQ(refined.exit_code, 0) << refined.output;
   const std::string refined_json = slurp(dir_ + "/r.json");
   EXPECT_NE(refined_json.find("\"source\": \"refined\""), std::string::npos);
@@ -286,7 +285,8 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
     if (line.empty() || line[0] == '#') continue;
     true_up[line.substr(0, line.find(' '))] = upOfPose(line.substr(line.find(' ') + 1));
   }
-  const CliRun sequence = run("--sequence " + seq + " --level --quiet --jsonl " + dir_ + "/s.jsonl");
+  const CliRun sequence =
+      run("--sequence " + seq + " --level --quiet --jsonl " + dir_ + "/s.jsonl");
   ASSERT_EQ(sequence.exit_code, 0) << sequence.output;
   EXPECT_NE(sequence.output.find("levelling from the scene"), std::string::npos) << sequence.output;
   std::istringstream lines(slurp(dir_ + "/s.jsonl"));

@@ -371,6 +371,7 @@ int runSequence(const Options& o) {
   std::size_t total_planes = 0, processed = 0, refused = 0, uncorrected = 0;
   std::string first_refusal, first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
+  hope::UpSmoother correction;  // refinement: the scene's up in the given frames
   for (std::size_t f = 0; f < listing.frames.size(); ++f) {
     const hope::tools::SequenceFrame& frame = listing.frames[f];
     const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
@@ -400,11 +401,21 @@ int runSequence(const Options& o) {
       }
       frame_orientation = levelled->orientation;
     } else if (level) {
+      // Each frame's correction blended into a running one (UpSmoother, as the nodelet does): the
+      // scene's up in the given reference frame. Corrected frame by frame, the kitchen sequence's
+      // world turned with each frame's depth noise: 128 ids and 31 switches where its poses alone
+      // give 96 and 14; blended, 94 and 13 (IDF1 72.9 % against 70.9 %).
       levelled = estimator.refine(input.view(), frame_orientation);
-      if (!levelled->applied && uncorrected++ == 0) {
+      const Eigen::Matrix3d& rotation = frame_orientation.sensorToReference().linear();
+      if (levelled->applied) {
+        correction.add(rotation * levelled->up_in_sensor);
+      } else if (uncorrected++ == 0) {
         first_uncorrected = file + ": " + levelled->note;
       }
-      frame_orientation = levelled->orientation;
+      if (!correction.empty()) {
+        frame_orientation =
+            hope::levelledTo(frame_orientation, rotation.transpose() * correction.value());
+      }
     }
     if (levelled) level_ms += levelled->time_ms;
     ++processed;

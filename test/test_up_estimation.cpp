@@ -278,6 +278,24 @@ TEST(UpEstimation, ParametersOutOfRangeAreNamed) {
   EXPECT_NE(message(p).find("min_support_area"), std::string::npos);
 }
 
+TEST(UpSmoother, BlendsSmallChangesAndStartsAfreshAfterATurn) {
+  UpSmoother smoother(0.3, 10.0);
+  EXPECT_TRUE(smoother.empty());
+  const V level = V::UnitZ();
+  EXPECT_TRUE(smoother.add(level).isApprox(level));
+  // 2° off: the running up moves 30 % of the way (to first order), not all of it.
+  const V tilted = Eigen::AngleAxisd(2 * kDegree, V::UnitX()) * level;
+  const V blended = smoother.add(tilted);
+  EXPECT_NEAR(angleDeg(blended, level), 0.6, 0.05);
+  EXPECT_EQ(smoother.frames(), 2);
+  // 30° off (a hand-held camera that turned): taken as it is.
+  const V turned = Eigen::AngleAxisd(30 * kDegree, V::UnitY()) * level;
+  EXPECT_LT(angleDeg(smoother.add(turned), turned), 1e-9);
+  EXPECT_EQ(smoother.frames(), 1);
+  smoother.reset();
+  EXPECT_TRUE(smoother.empty());
+}
+
 TEST(UnorientedCloudWarnings, CameraFrameCloudIsNamedAndTheOptionsGiven) {
   const View view = demoRoomView(30, 0);
   const auto warnings = unorientedCloudWarnings(PointsView::of(view.cloud), 0.0, true);

@@ -289,34 +289,29 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
       run("--sequence " + seq + " --level --quiet --jsonl " + dir_ + "/s.jsonl");
   ASSERT_EQ(sequence.exit_code, 0) << sequence.output;
   EXPECT_NE(sequence.output.find("levelling from the scene"), std::string::npos) << sequence.output;
-  std::istringstream lines(slurp(dir_ + "/s.jsonl"));
-  int frames = 0;
-  for (std::string line; std::getline(lines, line); ++frames) {
-    EXPECT_NE(line.find("\"levelling\": {\"source\": \"scene\""), std::string::npos) << line;
-    const double stamp = std::stod(line.substr(line.find(':') + 1));
-    const auto nearest = std::min_element(true_up.begin(), true_up.end(), [&](auto& a, auto& b) {
-      return std::fabs(std::stod(a.first) - stamp) < std::fabs(std::stod(b.first) - stamp);
-    });
-    EXPECT_LT(degreesBetween(vectorAfter(line, "up_in_sensor"), nearest->second), 0.5) << line;
-  }
-  EXPECT_EQ(frames, 4);
+  // Every line's levelling source and up (within 0.5° of the pose it was made with); the count.
+  auto checkLines = [&](const std::string& path, const std::string& source) {
+    std::istringstream lines(slurp(path));
+    int frames = 0;
+    for (std::string line; std::getline(lines, line); ++frames) {
+      EXPECT_NE(line.find("\"levelling\": {\"source\": \"" + source + "\""), std::string::npos)
+          << line;
+      const double stamp = std::stod(line.substr(line.find(':') + 1));
+      const auto nearest = std::min_element(true_up.begin(), true_up.end(), [&](auto& a, auto& b) {
+        return std::fabs(std::stod(a.first) - stamp) < std::fabs(std::stod(b.first) - stamp);
+      });
+      EXPECT_LT(degreesBetween(vectorAfter(line, "up_in_sensor"), nearest->second), 0.5) << line;
+    }
+    return frames;
+  };
+  EXPECT_EQ(checkLines(dir_ + "/s.jsonl", "scene"), 4);
   // With its poses and --level: each frame's pose refined (exact poses: nothing to correct).
   const CliRun refined_sequence =
       run("--sequence " + seq + " --groundtruth " + seq +
           "/groundtruth.txt --level --quiet --jsonl " + dir_ + "/r.jsonl");
   ASSERT_EQ(refined_sequence.exit_code, 0) << refined_sequence.output;
   EXPECT_NE(refined_sequence.output.find("refinement from the scene"), std::string::npos);
-  std::istringstream refined_lines(slurp(dir_ + "/r.jsonl"));
-  frames = 0;
-  for (std::string line; std::getline(refined_lines, line); ++frames) {
-    EXPECT_NE(line.find("\"source\": \"refined\""), std::string::npos) << line;
-    const double stamp = std::stod(line.substr(line.find(':') + 1));
-    const auto nearest = std::min_element(true_up.begin(), true_up.end(), [&](auto& a, auto& b) {
-      return std::fabs(std::stod(a.first) - stamp) < std::fabs(std::stod(b.first) - stamp);
-    });
-    EXPECT_LT(degreesBetween(vectorAfter(line, "up_in_sensor"), nearest->second), 0.5) << line;
-  }
-  EXPECT_EQ(frames, 4);
+  EXPECT_EQ(checkLines(dir_ + "/r.jsonl", "refined"), 4);
 }
 
 // The LiDAR path a new user takes: hope_synth writes a VLP-16 scan as a driver would publish it

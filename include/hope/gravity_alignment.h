@@ -55,6 +55,9 @@ class Orientation {
   std::optional<Eigen::Vector3d> viewpoint_;
 };
 
+// The reference frame's +z (up) in the sensor's frame: Rᵀ·z of a sensor-to-reference transform.
+Eigen::Vector3d upInSensor(const Eigen::Isometry3d& sensor_to_reference);
+
 // Aligned points are stored as float, whose centimetres are gone beyond ~100 km (a pose in
 // UTM map coordinates). They are stored relative to this local origin instead: the sensor's
 // position rounded to a multiple of 1024 m — zero for any pose within 512 m of the reference

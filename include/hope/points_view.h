@@ -19,6 +19,9 @@ struct PointsView {
   std::uint32_t height = 1;  // organized: image rows; unorganized: 1
 
   bool organized() const { return height > 1; }
+  // A camera's image: organized and at most 4 times wider than high. A LiDAR's rings × azimuth
+  // layout (64 × 2118) is organized but not image-like.
+  bool imageLike() const { return organized() && width <= 4 * std::size_t{height}; }
 
   // Sets width × height to the image shape a header gives when it accounts for every point,
   // and to one row of `count` points otherwise (an inconsistent header is not trusted).

@@ -37,6 +37,7 @@
 #include "hope/gravity_alignment.h"
 #include "hope/grid_filter.h"
 #include "hope/params.h"
+#include "hope/plane.h"
 #include "hope/points_view.h"
 
 namespace hope {
@@ -51,9 +52,9 @@ enum class UpPrior {
   // origin (every point at z > 0: a camera's optical frame); kZUp otherwise.
   kAuto,
   // A camera: the image's top is up, pitched anywhere from 15° above level to straight down,
-  // rolled by at most 35°. The camera's axes come from the cloud's layout (the direction rows
-  // advance in, the mean viewing direction) when it is organized, else the optical frame's
-  // (x right, y down, z forward).
+  // rolled by at most 35°. The camera's axes come from the cloud's layout when it is an image
+  // (a pinhole fit: each point lies on its pixel's ray), else the optical frame's (x right,
+  // y down, z forward).
   kCamera,
   // A LiDAR or a map: up within 45° of the cloud's +z.
   kZUp,
@@ -73,7 +74,8 @@ struct LevellingParams {
 
   // The levelling that goes with an extraction: cells of 2·r_xy. Level surfaces are wide, and
   // cells twice the extraction's are a quarter as many to fit (on the TUM frame the estimate
-  // took 1.65 ms with 5 cm cells, … with 10 cm, at the same accuracy: docs/evaluation.md §8).
+  // took 1.65 ms with 5 cm cells and 0.69 ms with 10 cm, at the accuracy of docs/evaluation.md
+  // §8).
   static LevellingParams forExtraction(const Params& params);
 };
 
@@ -104,8 +106,6 @@ struct UpEstimate {
   bool applied = true;
   std::string note;
   double time_ms = 0;
-  std::size_t sample_points = 0;
-  double cell = 0;  // the cell size finally used
 
   // One line: up, support, spread, surfaces (and the correction for a refinement).
   std::string describe() const;
@@ -144,11 +144,12 @@ class UpEstimator {
   void buildGrid(double cell);
   std::vector<Eigen::Vector3d> histogramPeaks() const;
   bool admissible(const Eigen::Vector3d& up) const;
+  // A camera's pitch (down positive) for `up`, degrees.
+  double pitchDeg(const Eigen::Vector3d& up) const;
   void describePrior(const Eigen::Vector3d& up, UpEstimate& e) const;
 
   LevellingParams params_;
   std::vector<Eigen::Vector3f> sample_;
-  std::size_t finite_points_ = 0;
   UpPrior prior_ = UpPrior::kZUp;
   // Camera axes in the cloud's frame (kCamera): right, image down, forward.
   Eigen::Vector3d right_ = Eigen::Vector3d::UnitX(), down_ = Eigen::Vector3d::UnitY(),
@@ -186,10 +187,11 @@ class UpSmoother {
 };
 
 // What the cloud looks like when no orientation was given: warnings for the CLI and Python
-// when it does not look z-up (a camera's optical frame, or no level surface found under the
-// assumption), and when an unorganized z-up cloud has no viewpoint (scan-gap bridging off).
-// `planes_area` is the total area of the planes found under the z-up assumption.
-std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud, double planes_area,
+// when it does not look z-up (a camera's optical frame, or no level surface among `planes`, found
+// under the assumption), and when an unorganized z-up cloud has no viewpoint (scan-gap bridging
+// off).
+std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud,
+                                                 const std::vector<HorizontalPlane>& planes,
                                                  bool viewpoint_known);
 
 }  // namespace hope

@@ -90,11 +90,10 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   std::optional<Eigen::Vector3d> viewpoint;
   if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
   links_.clear();
-  // A camera's image (organized, at most 4 times wider than high) samples surfaces densely in
+  // A camera's image (PointsView::imageLike) samples surfaces densely in
   // both directions; only a LiDAR's rings × azimuth layout or an unorganized scan is bridged.
   // (On the rendered tracking sequences bridging the far floor of depth images added ids.)
-  const bool image_like = cloud.organized() && cloud.width <= 4 * std::size_t{cloud.height};
-  if (params_.bridge_scan_gaps && viewpoint && !image_like) {
+  if (params_.bridge_scan_gaps && viewpoint && !cloud.imageLike()) {
     result.bridged_voxels = bridgeScanGaps(grid_, *viewpoint, params_, normals_, links_);
   }
   result.timings.normals_ms = stage.lap();

@@ -280,19 +280,13 @@ std::vector<std::vector<std::size_t>> groupFragments(
       return std::binary_search(compatible_pairs.begin(), compatible_pairs.end(),
                                 std::make_pair(std::min(a, b), std::max(a, b)));
     };
-    // Each merged group's representative (see representative()). Two groups join only when
+    // Each merged group's representative (representative()). Two groups join only when
     // their representatives are at one height too, by the fit or by their mean heights: pairs
     // alone chain, and a small fragment whose fit is tilted (a table's sliver taking in an
     // object's foot) linked a table with a box top 9 cm above it (mOSD test57 with its up
     // turned by 0.2°).
     std::vector<std::size_t> group_representative(count);
     std::iota(group_representative.begin(), group_representative.end(), std::size_t{0});
-    auto better = [&](std::size_t a, std::size_t b) {
-      const Fragment& fa = fragments[a];
-      const Fragment& fb = fragments[b];
-      if (fa.accepted != fb.accepted) return fa.accepted ? a : b;
-      return fb.plane.area > fa.plane.area ? b : a;
-    };
     auto joinGroups = [&](std::size_t a, std::size_t b) {
       const std::size_t ra = group_representative[merged.find(a)];
       const std::size_t rb = group_representative[merged.find(b)];
@@ -302,7 +296,7 @@ std::vector<std::vector<std::size_t>> groupFragments(
         return;
       }
       merged.join(a, b);
-      group_representative[merged.find(a)] = better(ra, rb);
+      group_representative[merged.find(a)] = representative(fragments, {ra, rb});
     };
     std::vector<std::vector<std::size_t>> candidate_groups(count);
     for (std::size_t k = 0; k < count; ++k) candidate_groups[candidates.find(k)].push_back(k);

@@ -57,6 +57,10 @@ Orientation Orientation::withViewpoint(const Eigen::Vector3d& viewpoint) const {
   return o;
 }
 
+Eigen::Vector3d upInSensor(const Eigen::Isometry3d& sensor_to_reference) {
+  return sensor_to_reference.linear().transpose() * Eigen::Vector3d::UnitZ();
+}
+
 Orientation Orientation::withoutViewpoint() const {
   Orientation o = *this;
   o.viewpoint_.reset();

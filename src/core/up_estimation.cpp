@@ -4,10 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <optional>
 #include <sstream>
-#include <unordered_set>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -61,6 +59,14 @@ bool finite(const Eigen::Vector3f& p) { return std::isfinite(p.x() + p.y() + p.z
 Eigen::Vector3f pointOf(const PointsView& cloud, std::size_t i) {
   return Eigen::Vector3f(cloud.x(i), cloud.y(i), cloud.z(i));
 }
+
+// A point in front of a camera's optical frame: at z > 0 and within ~63° of the z axis. An
+// unorganized cloud that a camera saw has (nearly) all its points so; a map or a LiDAR scan
+// surrounds its origin or lies to one side of it.
+bool inCameraFrustum(const Eigen::Vector3f& p) {
+  return p.z() > 0 && std::fabs(p.x()) <= 2 * p.z() && std::fabs(p.y()) <= 2 * p.z();
+}
+constexpr double kInFrontShare = 0.99;
 
 std::string formatted(const char* format, double a, double b = 0, double c = 0) {
   char text[160];
@@ -180,7 +186,7 @@ class PinholeAxes {
 // finds out whether the cloud is a camera's and along which axes.
 void UpEstimator::sample(const PointsView& cloud, UpPrior prior) {
   sample_.clear();
-  const bool image_like = cloud.organized() && cloud.width <= 4 * std::size_t{cloud.height};
+  const bool image_like = cloud.imageLike();
   PinholeAxes axes;
   if (image_like) {
     const double ratio = double(cloud.count) / double(params_.max_points);
@@ -214,17 +220,10 @@ void UpEstimator::sample(const PointsView& cloud, UpPrior prior) {
     if (image_like) {
       prior_ = UpPrior::kCamera;
     } else {
-      // An unorganized cloud in a camera's optical frame lies in front of its origin, inside a
-      // frustum: every point at z > 0 and within ~63° of the z axis. A map or a LiDAR scan
-      // surrounds its origin or lies to one side of it.
-      std::size_t in_front = 0;
-      for (const Eigen::Vector3f& p : sample_) {
-        if (p.z() > 0 && std::fabs(p.x()) <= 2 * p.z() && std::fabs(p.y()) <= 2 * p.z()) {
-          ++in_front;
-        }
-      }
-      prior_ = !sample_.empty() && in_front >= 0.99 * double(sample_.size()) ? UpPrior::kCamera
-                                                                             : UpPrior::kZUp;
+      const auto in_front = std::count_if(sample_.begin(), sample_.end(), inCameraFrustum);
+      prior_ = !sample_.empty() && double(in_front) >= kInFrontShare * double(sample_.size())
+                   ? UpPrior::kCamera
+                   : UpPrior::kZUp;
     }
   }
   if (prior_ == UpPrior::kCamera && image_like) {
@@ -274,10 +273,14 @@ bool UpEstimator::admissible(const Eigen::Vector3d& up) const {
   return std::fabs(along_right) <= std::sin(kMaxRollDeg * kDegree) * horizontal + slack;
 }
 
+double UpEstimator::pitchDeg(const Eigen::Vector3d& up) const {
+  return std::asin(std::clamp(-up.dot(forward_), -1.0, 1.0)) / kDegree;
+}
+
 void UpEstimator::describePrior(const Eigen::Vector3d& up, UpEstimate& e) const {
   e.prior = prior_;
   if (prior_ != UpPrior::kCamera) return;
-  e.pitch_deg = std::asin(std::clamp(-up.dot(forward_), -1.0, 1.0)) / kDegree;
+  e.pitch_deg = pitchDeg(up);
   // Positive with the image's right side down (ROS: about the forward axis).
   e.roll_deg = std::atan2(-up.dot(right_), -up.dot(down_)) / kDegree;
 }
@@ -356,9 +359,6 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   }
   buildGrid(params_.cell);
 
-  auto pitchOf = [&](const Eigen::Vector3d& up) {
-    return std::asin(std::clamp(-up.dot(forward_), -1.0, 1.0)) / kDegree;
-  };
   using Fit = detail::LevelFit::Result;
   std::vector<Fit> candidates;
   bool head_on_only = false;
@@ -368,7 +368,7 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
     // One surface facing a camera head-on, nothing else level at another height: a wall in
     // front of a level camera and a floor under a camera looking straight down look the same,
     // so it is no evidence either way.
-    if (prior_ == UpPrior::kCamera && pitchOf(c.up) > kHeadOnPitchDeg && c.level_heights <= 1) {
+    if (prior_ == UpPrior::kCamera && pitchDeg(c.up) > kHeadOnPitchDeg && c.level_heights <= 1) {
       head_on_only = true;
       continue;
     }
@@ -382,7 +382,7 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   // for less, down to a quarter of their area straight down.
   auto score = [&](const Fit& c) {
     if (prior_ != UpPrior::kCamera) return c.support_area;
-    const double pitch = pitchOf(c.up);
+    const double pitch = pitchDeg(c.up);
     const double weight = pitch <= 60 ? 1.0 : 1.0 - 0.75 * std::min(1.0, (pitch - 60) / 30);
     return c.support_area * weight;
   };
@@ -421,16 +421,13 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   e.angle_spread_deg = best.angle_spread_deg;
   e.level_surfaces = best.level_surfaces;
   e.level_heights = best.level_heights;
-  e.sample_points = sample_.size();
-  e.cell = grid_.rXY();
   e.time_ms = elapsedMs(start);
   return e;
 }
 
 UpEstimate UpEstimator::refine(const PointsView& cloud, const Orientation& given) {
   const auto start = std::chrono::steady_clock::now();
-  const Eigen::Isometry3d& transform = given.sensorToReference();
-  const Eigen::Vector3d given_up = transform.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d given_up = upInSensor(given.sensorToReference());
   sample(cloud, params_.prior);
 
   UpEstimate e;
@@ -443,8 +440,6 @@ UpEstimate UpEstimator::refine(const PointsView& cloud, const Orientation& given
     buildGrid(params_.cell);
     c = fit_->fit(given_up, params_.max_correction_deg + 5.0, detail::LevelFit::kRounds);
   }
-  e.sample_points = sample_.size();
-  e.cell = sample_.size() >= 3 ? grid_.rXY() : params_.cell;
   e.support_area = c.support_area;
   e.angle_spread_deg = c.angle_spread_deg;
   e.level_surfaces = c.level_surfaces;
@@ -498,10 +493,11 @@ const Eigen::Vector3d& UpSmoother::add(const Eigen::Vector3d& up) {
   return value_;
 }
 
-std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud, double planes_area,
+std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud,
+                                                 const std::vector<HorizontalPlane>& planes,
                                                  bool viewpoint_known) {
   std::vector<std::string> warnings;
-  const bool image_like = cloud.organized() && cloud.width <= 4 * std::size_t{cloud.height};
+  const bool image_like = cloud.imageLike();
   const std::size_t step = std::max<std::size_t>(1, cloud.count / 20000);
   std::size_t finite_points = 0, in_front = 0;
   Eigen::AlignedBox3f box;
@@ -510,10 +506,10 @@ std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud, double
     if (!finite(p)) continue;
     ++finite_points;
     box.extend(p);
-    if (p.z() > 0 && std::fabs(p.x()) <= 2 * p.z() && std::fabs(p.y()) <= 2 * p.z()) ++in_front;
+    if (inCameraFrustum(p)) ++in_front;
   }
   if (finite_points == 0) return warnings;
-  const bool camera_like = in_front >= 0.99 * double(finite_points);
+  const bool camera_like = double(in_front) >= kInFrontShare * double(finite_points);
   if (camera_like) {
     warnings.push_back(
         std::string("no orientation given and the cloud looks like a camera's optical frame "
@@ -524,6 +520,8 @@ std::vector<std::string> unorientedCloudWarnings(const PointsView& cloud, double
         "sensor's orientation (--gravity, --quaternion, --rpy, --pose)");
     return warnings;
   }
+  double planes_area = 0;
+  for (const HorizontalPlane& plane : planes) planes_area += plane.area;
   if (planes_area < 0.05) {
     warnings.push_back(
         "no orientation given and no level surface found with the cloud's z axis as up: is the "

@@ -24,10 +24,6 @@ namespace {
 
 constexpr double kDegree = M_PI / 180.0;
 
-Orientation orientationOf(const Eigen::Isometry3d& pose) {
-  return Orientation::fromTransform(pose);
-}
-
 // A rendered depth frame as the sensor gives it: organized, in the optical frame.
 LevellingCase cameraCase(const std::string& group, const std::string& name,
                          const synthetic::RenderedFrame& frame, const synthetic::Camera& camera) {
@@ -35,7 +31,7 @@ LevellingCase cameraCase(const std::string& group, const std::string& name,
   c.group = group;
   c.name = name;
   c.cloud = depthToCloud(frame.depth, camera.intrinsics, 1.0);
-  c.truth = orientationOf(camera.pose);
+  c.truth = Orientation::fromTransform(camera.pose);
   c.labels.assign(frame.labels.begin<int>(), frame.labels.end<int>());
   return c;
 }
@@ -46,7 +42,7 @@ LevellingCase lidarCase(const std::string& group, const std::string& name,
   c.group = group;
   c.name = name;
   c.cloud = scan.toCloud();
-  c.truth = orientationOf(scan.sensor_pose);
+  c.truth = Orientation::fromTransform(scan.sensor_pose);
   c.labels = scan.labels;
   c.camera = false;
   return c;
@@ -56,6 +52,112 @@ std::string degrees(double value) {
   std::ostringstream out;
   out << static_cast<int>(std::lround(value));
   return out.str();
+}
+
+// The datasets of realLevellingCases, one each.
+void tumCases(const std::string& data_dir, const CaseVisitor& visit,
+              std::vector<std::string>& missing) {
+  // TUM fr1_desk: the one frame with its motion-capture pose.
+  const std::string tum = data_dir + "/tum_fr1_desk";
+  cv::Mat depth;
+  tools::readImageFile(tum + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH, depth);
+  std::ifstream groundtruth(tum + "/groundtruth.txt");
+  if (!depth.empty() && groundtruth) {
+    std::string line, last;
+    while (std::getline(groundtruth, line)) {
+      if (!line.empty() && line[0] != '#') last = line;
+    }
+    double stamp, tx, ty, tz, qx, qy, qz, qw;
+    std::istringstream(last) >> stamp >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
+    LevellingCase c;
+    c.group = "TUM fr1_desk (motion-capture pose)";
+    c.name = "1305031459.274941";
+    c.cloud = depthToCloud(depth, PinholeIntrinsics::tumFreiburg1(), 5000);
+    c.truth = Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw);
+    visit(c);
+  } else {
+    missing.push_back(tum);
+  }
+}
+
+void mosdCases(const std::string& data_dir, const CaseVisitor& visit,
+               std::vector<std::string>& missing) {
+  namespace fs = std::filesystem;
+  // mOSD: up is the labelled (level) table top's normal.
+  const std::string mosd = data_dir + "/mosd_dev";
+  if (fs::is_directory(mosd)) {
+    std::vector<std::string> paths;
+    for (const auto& entry : fs::directory_iterator(mosd)) {
+      if (entry.path().extension() == ".pcd") paths.push_back(entry.path().string());
+    }
+    std::sort(paths.begin(), paths.end());
+    for (const std::string& path : paths) {
+      const LabelledTableScene scene = loadLabelledTableScene(path);
+      LevellingCase c;
+      c.group = "mOSD tabletops (labelled table's normal)";
+      c.name = scene.name;
+      c.cloud = scene.cloud;
+      c.truth = scene.orientation;
+      c.is_table = scene.is_table;
+      visit(c);
+    }
+  } else {
+    missing.push_back(mosd);
+  }
+}
+
+void kitchenCases(const std::string& data_dir, int kitchen_step, const CaseVisitor& visit,
+                  std::vector<std::string>& missing) {
+  namespace fs = std::filesystem;
+  // The kitchen sequence: every kitchen_step-th frame with its pose in a gravity-aligned world.
+  const std::string kitchen = data_dir + "/kitchen_dev";
+  if (fs::is_regular_file(kitchen + "/depth.txt")) {
+    tools::SequenceOptions options;
+    options.dir = kitchen;
+    const tools::SequenceListing listing = tools::listSequence(options);
+    const PinholeIntrinsics k = listing.intrinsics_file.empty()
+                                    ? PinholeIntrinsics{585, 585, 320, 240}
+                                    : tools::readIntrinsics(listing.intrinsics_file);
+    for (std::size_t f = 0; f < listing.frames.size(); f += std::max(1, kitchen_step)) {
+      cv::Mat image;
+      if (!tools::readImageFile(listing.frames[f].depth, cv::IMREAD_ANYDEPTH, image)) continue;
+      LevellingCase c;
+      c.group = "kitchen_dev (sequence poses)";
+      c.name = fs::path(listing.frames[f].depth).stem().string();
+      c.cloud = depthToCloud(image, k, 5000);
+      c.truth = listing.frames[f].orientation;
+      visit(c);
+    }
+  } else {
+    missing.push_back(kitchen);
+  }
+}
+
+void pclLaserCases(const std::string& data_dir, const CaseVisitor& visit,
+                   std::vector<std::string>& missing) {
+  namespace fs = std::filesystem;
+  // PCL's laser scans: unorganized, "z roughly up" (the truth is approximate).
+  const std::string laser = data_dir + "/pcl_laser";
+  bool any_laser = false;
+  for (const char* file : {"room_scan1", "room_scan2", "min_cut_segmentation_tutorial"}) {
+    const std::string path = laser + "/" + file + ".pcd";
+    if (!fs::is_regular_file(path)) continue;
+    const tools::InputCloud input = tools::loadCloud(path);
+    LevellingCase c;
+    c.group = "PCL laser scans (z roughly up)";
+    c.name = file;
+    c.cloud.resize(input.points.size());
+    for (std::size_t i = 0; i < input.points.size(); ++i) {
+      c.cloud[i].getVector3fMap() = input.points[i];
+    }
+    c.cloud.width = static_cast<std::uint32_t>(input.points.size());
+    c.cloud.height = 1;
+    c.exact = false;
+    c.camera = false;
+    visit(c);
+    any_laser = true;
+  }
+  if (!any_laser) missing.push_back(laser);
 }
 
 }  // namespace
@@ -134,97 +236,11 @@ void syntheticLevellingCases(bool quick, const CaseVisitor& visit) {
 }
 
 void realLevellingCases(const std::string& data_dir, int kitchen_step, const CaseVisitor& visit,
-                        std::vector<std::string>& missing) {
-  namespace fs = std::filesystem;
-  // TUM fr1_desk: the one frame with its motion-capture pose.
-  const std::string tum = data_dir + "/tum_fr1_desk";
-  cv::Mat depth;
-  tools::readImageFile(tum + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH, depth);
-  std::ifstream groundtruth(tum + "/groundtruth.txt");
-  if (!depth.empty() && groundtruth) {
-    std::string line, last;
-    while (std::getline(groundtruth, line)) {
-      if (!line.empty() && line[0] != '#') last = line;
-    }
-    double stamp, tx, ty, tz, qx, qy, qz, qw;
-    std::istringstream(last) >> stamp >> tx >> ty >> tz >> qx >> qy >> qz >> qw;
-    LevellingCase c;
-    c.group = "TUM fr1_desk (motion-capture pose)";
-    c.name = "1305031459.274941";
-    c.cloud = depthToCloud(depth, PinholeIntrinsics::tumFreiburg1(), 5000);
-    c.truth = Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw);
-    visit(c);
-  } else {
-    missing.push_back(tum);
-  }
-
-  // mOSD: up is the labelled (level) table top's normal.
-  const std::string mosd = data_dir + "/mosd_dev";
-  if (fs::is_directory(mosd)) {
-    std::vector<std::string> paths;
-    for (const auto& entry : fs::directory_iterator(mosd)) {
-      if (entry.path().extension() == ".pcd") paths.push_back(entry.path().string());
-    }
-    std::sort(paths.begin(), paths.end());
-    for (const std::string& path : paths) {
-      const LabelledTableScene scene = loadLabelledTableScene(path);
-      LevellingCase c;
-      c.group = "mOSD tabletops (labelled table's normal)";
-      c.name = scene.name;
-      c.cloud = scene.cloud;
-      c.truth = scene.orientation;
-      c.is_table = scene.is_table;
-      visit(c);
-    }
-  } else {
-    missing.push_back(mosd);
-  }
-
-  // The kitchen sequence: every kitchen_step-th frame with its pose in a gravity-aligned world.
-  const std::string kitchen = data_dir + "/kitchen_dev";
-  if (fs::is_regular_file(kitchen + "/depth.txt")) {
-    tools::SequenceOptions options;
-    options.dir = kitchen;
-    const tools::SequenceListing listing = tools::listSequence(options);
-    const PinholeIntrinsics k = listing.intrinsics_file.empty()
-                                    ? PinholeIntrinsics{585, 585, 320, 240}
-                                    : tools::readIntrinsics(listing.intrinsics_file);
-    for (std::size_t f = 0; f < listing.frames.size(); f += std::max(1, kitchen_step)) {
-      cv::Mat image;
-      if (!tools::readImageFile(listing.frames[f].depth, cv::IMREAD_ANYDEPTH, image)) continue;
-      LevellingCase c;
-      c.group = "kitchen_dev (sequence poses)";
-      c.name = fs::path(listing.frames[f].depth).stem().string();
-      c.cloud = depthToCloud(image, k, 5000);
-      c.truth = listing.frames[f].orientation;
-      visit(c);
-    }
-  } else {
-    missing.push_back(kitchen);
-  }
-
-  // PCL's laser scans: unorganized, "z roughly up" (the truth is approximate).
-  const std::string laser = data_dir + "/pcl_laser";
-  bool any_laser = false;
-  for (const char* file : {"room_scan1", "room_scan2", "min_cut_segmentation_tutorial"}) {
-    const std::string path = laser + "/" + file + ".pcd";
-    if (!fs::is_regular_file(path)) continue;
-    const tools::InputCloud input = tools::loadCloud(path);
-    LevellingCase c;
-    c.group = "PCL laser scans (z roughly up)";
-    c.name = file;
-    c.cloud.resize(input.points.size());
-    for (std::size_t i = 0; i < input.points.size(); ++i) {
-      c.cloud[i].getVector3fMap() = input.points[i];
-    }
-    c.cloud.width = static_cast<std::uint32_t>(input.points.size());
-    c.cloud.height = 1;
-    c.exact = false;
-    c.camera = false;
-    visit(c);
-    any_laser = true;
-  }
-  if (!any_laser) missing.push_back(laser);
+                        std::vector<std::string>& missing, unsigned which) {
+  if (which & kTumDesk) tumCases(data_dir, visit, missing);
+  if (which & kMosd) mosdCases(data_dir, visit, missing);
+  if (which & kKitchen) kitchenCases(data_dir, kitchen_step, visit, missing);
+  if (which & kPclLaser) pclLaserCases(data_dir, visit, missing);
 }
 
 std::optional<Eigen::Vector3d> tiltSearchUp(const PointsView& cloud, const Params& params) {

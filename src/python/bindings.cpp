@@ -186,10 +186,7 @@ class PyExtractor {
         }
         out.levelling = given ? estimator_->refine(view, orientation) : estimator_->estimate(view);
         orientation = out.levelling->orientation;
-        if (!viewpoint.is_none()) {
-          const auto v = viewpointOf(viewpoint);
-          orientation = orientation.withViewpoint(v);
-        }
+        if (!viewpoint.is_none()) orientation = orientation.withViewpoint(viewpointOf(viewpoint));
       }
       out.result = extractor_.extract(view, orientation);
     }
@@ -203,10 +200,8 @@ class PyExtractor {
     }
     if (!level && !given) {
       // Nothing said which way is up: say so when the cloud does not look z-up.
-      double planes_area = 0;
-      for (const auto& plane : out.result.planes) planes_area += plane.area;
       for (const auto& warning :
-           hope::unorientedCloudWarnings(view, planes_area, !viewpoint.is_none())) {
+           hope::unorientedCloudWarnings(view, out.result.planes, !viewpoint.is_none())) {
         out.result.warnings.push_back(warning);
       }
     }
@@ -324,8 +319,7 @@ py::object levellingOf(const ExtractionResult& r) {
 }
 
 py::tuple upInSensorOf(const ExtractionResult& r) {
-  const Eigen::Vector3d up =
-      r.result.sensor_to_reference.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up = hope::upInSensor(r.result.sensor_to_reference);
   return py::make_tuple(up.x(), up.y(), up.z());
 }
 

@@ -154,6 +154,9 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // estimate, and for a refinement the frames left uncorrected and the last correction.
   std::size_t levelled_ = 0, level_held_ = 0, level_skipped_ = 0, uncorrected_ = 0;
   std::string last_levelling_, last_level_problem_;
+  // up_smoother_'s running up as the diagnostics thread reads it (the smoother itself belongs to
+  // the processing thread).
+  std::optional<Eigen::Vector3d> smoothed_up_;
   std::string last_problem_;
   ros::WallTimer diagnostics_timer_;
 };
@@ -346,6 +349,7 @@ void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
     recent_gravity_.clear();
     up_smoother_.reset();
     std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    smoothed_up_.reset();
     gaps_.restart();
     ++time_jumps_;
   }
@@ -529,6 +533,7 @@ bool PlaneExtractorNodelet::levelFromScene(const hope::PointsView& view,
       std::lock_guard<std::mutex> stats_lock(stats_mutex_);
       ++levelled_;
       last_levelling_ = e.describe();
+      smoothed_up_ = up;
       return true;
     } catch (const hope::LevellingError& error) {
       // A view with nothing level (the camera facing a wall): the last up holds for a while,
@@ -556,7 +561,7 @@ bool PlaneExtractorNodelet::levelFromScene(const hope::PointsView& view,
     ++uncorrected_;
     if (up_smoother_.empty()) return true;
   } else {
-    up_smoother_.add(rotation * e.up_in_sensor);
+    smoothed_up_ = up_smoother_.add(rotation * e.up_in_sensor);
     ++levelled_;
   }
   orientation = hope::levelledTo(orientation, rotation.transpose() * up_smoother_.value());
@@ -728,11 +733,11 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
     if (!last_level_problem_.empty()) {
       status.add("up from the scene: last refusal", last_level_problem_);
     }
-    const Eigen::Vector3d up = up_smoother_.value();
-    status.add("up from the scene: smoothed up",
-               up_smoother_.empty() ? std::string("none yet")
-                                    : std::to_string(up.x()) + " " + std::to_string(up.y()) + " " +
-                                          std::to_string(up.z()));
+    status.add("up from the scene: smoothed up", !smoothed_up_
+                                                     ? std::string("none yet")
+                                                     : std::to_string(smoothed_up_->x()) + " " +
+                                                           std::to_string(smoothed_up_->y()) + " " +
+                                                           std::to_string(smoothed_up_->z()));
   }
   status.add("reference frame", reference_frame_);
 }

@@ -198,17 +198,20 @@ hope::LevellingParams levellingParams(const Options& o, const hope::Params& para
   return levelling;
 }
 
+// `orientation` with --viewpoint applied when it is given.
+hope::Orientation withViewpointOption(const Options& o, const hope::Orientation& orientation) {
+  if (!o.values.count("--viewpoint")) return orientation;
+  const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
+  return orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
+}
+
 // --level: `orientation` estimated (nothing else given) or refined (one given) from the cloud;
-// --viewpoint still has the last word on where the sensor was. Says what it found on stderr.
+// --viewpoint still has the last word on where the sensor was.
 hope::UpEstimate levelFromScene(const Options& o, hope::UpEstimator& estimator,
                                 const hope::PointsView& cloud, hope::Orientation& orientation) {
   hope::UpEstimate e =
       orientationGiven(o) ? estimator.refine(cloud, orientation) : estimator.estimate(cloud);
-  orientation = e.orientation;
-  if (o.values.count("--viewpoint")) {
-    const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
-    orientation = orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
-  }
+  orientation = withViewpointOption(o, e.orientation);
   return e;
 }
 
@@ -216,10 +219,7 @@ hope::UpEstimate levelFromScene(const Options& o, hope::UpEstimator& estimator,
 // the sensor's own frame (a depth image), so the sensor is at the origin when nothing else says.
 hope::Orientation orientation(const Options& o, bool sensor_frame_cloud = false) {
   hope::Orientation result = rotationOrPose(o);
-  if (o.values.count("--viewpoint")) {
-    const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
-    return result.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
-  }
+  if (o.values.count("--viewpoint")) return withViewpointOption(o, result);
   if (sensor_frame_cloud && !result.viewpoint()) {
     result = result.withViewpoint(Eigen::Vector3d::Zero());
   }
@@ -317,8 +317,7 @@ int runSequence(const Options& o) {
   hope::tools::SequenceOptions seq;
   seq.dir = o.values.at("--sequence");
   seq.max_time_difference = number(o, "--max-time-difference", seq.max_time_difference);
-  const bool fixed = o.values.count("--pose") || o.values.count("--quaternion") ||
-                     o.values.count("--rpy") || o.values.count("--gravity");
+  const bool fixed = orientationGiven(o);
   const bool has_gt = o.values.count("--groundtruth") > 0;
   const bool has_acc = o.values.count("--accelerometer") > 0;
   if (int(fixed) + int(has_gt) + int(has_acc) > 1) {
@@ -372,6 +371,12 @@ int runSequence(const Options& o) {
   std::string first_refusal, first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
   hope::UpSmoother correction;  // refinement: the scene's up in the given frames
+  // A JSON line's opening members, a frame's and a skipped frame's alike.
+  auto lineStart = [](double stamp, const std::string& file) {
+    char text[40];
+    std::snprintf(text, sizeof(text), "%.6f", stamp);
+    return std::string("{\"stamp\": ") + text + ", \"file\": " + hope::tools::jsonString(file);
+  };
   for (std::size_t f = 0; f < listing.frames.size(); ++f) {
     const hope::tools::SequenceFrame& frame = listing.frames[f];
     const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
@@ -391,9 +396,7 @@ int runSequence(const Options& o) {
         // guessed: the tracker does not see it, the JSON lines record it.
         if (refused++ == 0) first_refusal = file + ": " + error.what();
         if (jsonl.is_open()) {
-          char stamp[40];
-          std::snprintf(stamp, sizeof(stamp), "%.6f", frame.stamp);
-          jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file)
+          jsonl << lineStart(frame.stamp, file)
                 << ", \"skipped\": " << hope::tools::jsonString(error.what()) << "}\n";
         }
         progress.update(f + 1);
@@ -431,9 +434,7 @@ int runSequence(const Options& o) {
     for (const auto& p : result.planes) ids.insert(p.id);
 
     if (jsonl.is_open()) {
-      char stamp[40];
-      std::snprintf(stamp, sizeof(stamp), "%.6f", frame.stamp);
-      jsonl << "{\"stamp\": " << stamp << ", \"file\": " << hope::tools::jsonString(file) << ", "
+      jsonl << lineStart(frame.stamp, file) << ", "
             << hope::tools::orientationJson(result.sensor_to_reference);
       if (levelled) jsonl << ", \"levelling\": " << hope::tools::levellingJson(*levelled);
       jsonl << ", \"planes\": [";
@@ -557,10 +558,8 @@ int run(const Options& o) {
   }
   if (!level && !orientationGiven(o)) {
     // Nothing said which way is up: the cloud was taken as z-up. Say so when it does not look it.
-    double planes_area = 0;
-    for (const auto& plane : result.planes) planes_area += plane.area;
     for (const auto& warning :
-         hope::unorientedCloudWarnings(input.view(), planes_area, pose.viewpoint().has_value())) {
+         hope::unorientedCloudWarnings(input.view(), result.planes, pose.viewpoint().has_value())) {
       result.warnings.push_back(warning);
     }
   }

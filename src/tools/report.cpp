@@ -94,7 +94,7 @@ std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference) {
     for (int c = 0; c < 4; ++c) text += (c ? ", " : "") + number(m(r, c), 9);
     text += "]";
   }
-  const Eigen::Vector3d up = sensor_to_reference.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up = upInSensor(sensor_to_reference);
   return text + "], \"up_in_sensor\": [" + number(up.x(), 9) + ", " + number(up.y(), 9) + ", " +
          number(up.z(), 9) + "]";
 }

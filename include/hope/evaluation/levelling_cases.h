@@ -38,9 +38,7 @@ struct LevellingCase {
   // A camera's cloud (where the −y tilt search applies) rather than a LiDAR's.
   bool camera = true;
 
-  Eigen::Vector3d trueUp() const {
-    return truth.sensorToReference().linear().transpose() * Eigen::Vector3d::UnitZ();
-  }
+  Eigen::Vector3d trueUp() const { return upInSensor(truth.sensorToReference()); }
 };
 
 using CaseVisitor = std::function<void(const LevellingCase&)>;
@@ -54,11 +52,20 @@ synthetic::Camera cameraAt(const Eigen::Vector3d& eye, double yaw, double pitch,
 // room scanned with the sensor tilted.
 void syntheticLevellingCases(bool quick, const CaseVisitor& visit);
 
-// The real clouds of `data_dir` whose up is known, in groups; a group whose data is absent is
-// left out (the names of the absent ones go to `missing`). `kitchen_step`: every n-th frame of
-// the kitchen sequence.
+// The real datasets, for choosing which to read.
+enum RealData : unsigned {
+  kTumDesk = 1,
+  kMosd = 2,
+  kKitchen = 4,
+  kPclLaser = 8,
+  kAllRealData = kTumDesk | kMosd | kKitchen | kPclLaser,
+};
+
+// The real clouds of `data_dir` whose up is known, in groups, from the datasets in `which`; a
+// group whose data is absent is left out (the names of the absent ones go to `missing`).
+// `kitchen_step`: every n-th frame of the kitchen sequence.
 void realLevellingCases(const std::string& data_dir, int kitchen_step, const CaseVisitor& visit,
-                        std::vector<std::string>& missing);
+                        std::vector<std::string>& missing, unsigned which = kAllRealData);
 
 // The levelling hope_eval used before up_estimation.h, measured beside it: up = −y (a level
 // camera's optical frame) tilted down by 0, 15, … 75°; the first tilt that finds a plane of

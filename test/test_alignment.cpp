@@ -34,6 +34,20 @@ TEST(Alignment, NonUnitQuaternionIsNormalized) {
   expectNear(apply(unit, V3(1, 2, 3)), apply(scaled, V3(1, 2, 3)));
 }
 
+// Components whose squares overflow (a corrupt line of 1e200s) or underflow still name their
+// rotation: normalized without squaring them first, never taken as zero or as no rotation.
+TEST(Alignment, QuaternionsAndGravityOfExtremeLengthNameTheirRotation) {
+  const Orientation unit = Orientation::fromQuaternion(0.1, 0.2, 0.3, 0.9);
+  expectNear(apply(Orientation::fromQuaternion(1e199, 2e199, 3e199, 9e199), V3(1, 2, 3)),
+             apply(unit, V3(1, 2, 3)));
+  expectNear(apply(Orientation::fromQuaternion(1e307, 2e307, 3e307, 9e307), V3(1, 2, 3)),
+             apply(unit, V3(1, 2, 3)));
+  const Orientation level = Orientation::fromGravity(0, -9.81, 0);
+  expectNear(apply(Orientation::fromGravity(0, -1e300, 0), V3(1, 2, 3)), apply(level, V3(1, 2, 3)));
+  expectNear(apply(Orientation::fromGravity(1e-300, -1e300, 0), V3(1, 2, 3)),
+             apply(level, V3(1, 2, 3)));
+}
+
 TEST(Alignment, ZeroNanAndInfiniteQuaternionsAreRejectedWithAClearError) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();

@@ -206,13 +206,14 @@ TEST_F(Cli, OutputsAreCompleteOrAbsentAndWriteErrorsAreReported) {
   EXPECT_NE(r.output.find("cannot write '" + dir_ + "/o.unknown'"), std::string::npos) << r.output;
   EXPECT_FALSE(exists(dir_ + "/p.json"));
 
-  // A sequence whose second frame is corrupt: the JSON lines of a previous run stay as they
-  // were (they were truncated at the start before), and no partial file replaces them.
+  // A sequence whose second frame is corrupt, run with --strict (stop at the first bad frame):
+  // the JSON lines of a previous run stay as they were (they were truncated at the start
+  // before), and no partial file replaces them.
   ASSERT_EQ(::mkdir((dir_ + "/seq").c_str(), 0755), 0);
   ASSERT_EQ(pcl::io::savePCDFileBinary(dir_ + "/seq/1.pcd", twoSheets().cloud), 0);
   std::ofstream(dir_ + "/seq/2.pcd") << "not a cloud";
   std::ofstream(dir_ + "/old.jsonl") << "previous run\n";
-  r = run("--sequence " + dir_ + "/seq --quaternion \"0 0 0 1\" --jsonl " + dir_ +
+  r = run("--sequence " + dir_ + "/seq --quaternion \"0 0 0 1\" --strict --jsonl " + dir_ +
           "/old.jsonl --quiet");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("2.pcd' is not a PCD file"), std::string::npos) << r.output;

@@ -24,6 +24,34 @@ TEST(DepthImage, SixteenBitDepthWithScaleBackProjectsThroughThePinhole) {
   EXPECT_FALSE(cloud.is_dense);
 }
 
+// Intrinsics that cannot be the camera of the image, and a depth scale that puts every depth
+// under 1 mm or beyond 10 km, are refused with the reason instead of giving a cloud of
+// non-finite or meaningless points.
+TEST(DepthImage, IntrinsicsAndScaleThatDoNotFitTheImageAreRefused) {
+  const cv::Mat depth(240, 320, CV_16UC1, cv::Scalar(10000));  // 2 m at 5000 per metre
+  auto refusal = [&](const PinholeIntrinsics& k, double scale) {
+    try {
+      depthToCloud(depth, k, scale);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const PinholeIntrinsics fits{260, 260, 160, 120};
+  EXPECT_EQ(refusal(fits, 5000), "accepted");
+  // A 640 x 480 camera's intrinsics on a 320 x 240 image: the principal point is outside.
+  EXPECT_NE(refusal(PinholeIntrinsics::tumFreiburg1(), 5000).find("principal point is outside"),
+            std::string::npos);
+  EXPECT_NE(refusal({1e-300, 1e-300, 160, 120}, 5000).find("the image would span"),
+            std::string::npos);
+  EXPECT_NE(refusal({1e6, 1e6, 160, 120}, 5000).find("the image would span"), std::string::npos);
+  EXPECT_NE(refusal(fits, 1e300).find("depth scale 1e+300 puts this image's depths"),
+            std::string::npos);
+  EXPECT_NE(refusal(fits, 1e-300).find("depth scale 1e-300 puts this image's depths"),
+            std::string::npos);
+  EXPECT_EQ(refusal(fits, 1), "accepted");  // 10 km: the far limit itself
+}
+
 TEST(DepthImage, ZeroDepthBecomesNaNAndFloatDepthIsMetres) {
   cv::Mat depth(2, 2, CV_32FC1, cv::Scalar(1.5f));
   depth.at<float>(0, 1) = 0.f;

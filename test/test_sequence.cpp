@@ -153,10 +153,16 @@ TEST_F(Sequence, TheFoldersOwnIntrinsicsAreReadAndNamed) {
   EXPECT_NE(r.output.find("from --intrinsics (not " + dir_ + "/seq/intrinsics.txt)"),
             std::string::npos)
       << r.output;
+  // Without intrinsics.txt the run says it falls back to TUM freiburg1's, and since those are a
+  // 640 x 480 camera's (principal point 318.6, 255.3), every 320 x 240 frame is refused with
+  // the reason rather than turned into wrong planes.
   std::remove((dir_ + "/seq/intrinsics.txt").c_str());
   r = run("--sequence " + dir_ + "/seq");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("intrinsics 517.3 516.5 318.6 255.3 from TUM freiburg1's"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("do not fit the 320 x 240 image: the principal point is outside"),
             std::string::npos)
       << r.output;
 }
@@ -199,8 +205,18 @@ TEST_F(Sequence, FramesWithoutAnOrientationAreSkippedAndCounted) {
   const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --groundtruth " + dir_ +
                        "/partial.txt --quiet --jsonl " + dir_ + "/p.jsonl");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("skipped 3 frame(s)"), std::string::npos) << r.output;
-  EXPECT_EQ(readJsonLines(dir_ + "/p.jsonl").size(), 3u);
+  EXPECT_NE(r.output.find("skipped 3 frame(s): no orientation within 0.02 s"), std::string::npos)
+      << r.output;
+  // Every frame has its line, in time order: the three with a pose, then the three skipped.
+  std::istringstream jsonl(slurp(dir_ + "/p.jsonl"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(jsonl, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 6u);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(lines[i].find("\"skipped\": \"no orientation within 0.02 s\"") != std::string::npos,
+              i >= 3)
+        << lines[i].substr(0, 200);
+  }
 }
 
 TEST_F(Sequence, PcdFolderNamedByTimestamp) {
@@ -234,11 +250,15 @@ TEST_F(Sequence, PcdFolderNamedByTimestamp) {
 }
 
 TEST_F(Sequence, ClearErrorsForBadSequences) {
+  // A missing folder is said to be missing, not to lack a groundtruth.txt.
   CliRun r = run("--sequence " + dir_ + "/missing");
-  EXPECT_EQ(r.exit_code, 2) << r.output;  // no groundtruth.txt: a usage error
-  EXPECT_NE(r.output.find("groundtruth.txt"), std::string::npos) << r.output;
-  r = run("--sequence " + dir_ + "/missing --rpy \"0 0 0\"");
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--sequence '" + dir_ + "/missing' does not exist"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("groundtruth.txt"), std::string::npos) << r.output;
+  std::ofstream(dir_ + "/file") << "x";
+  r = run("--sequence " + dir_ + "/file --rpy \"0 0 0\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("is not a folder"), std::string::npos) << r.output;
   r = run("--sequence " + dir_ + " --rpy \"0 0 0\"");
   EXPECT_EQ(r.exit_code, 1) << r.output;

@@ -1,9 +1,11 @@
 #include "hope/depth_image.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
@@ -19,6 +21,28 @@ void PinholeIntrinsics::validate() const {
   }
 }
 
+void PinholeIntrinsics::validateFor(int width, int height) const {
+  validate();
+  auto fail = [&](const std::string& why) {
+    std::ostringstream msg;
+    msg << "intrinsics (fx fy cx cy) = (" << fx << " " << fy << " " << cx << " " << cy
+        << ") do not fit the " << width << " x " << height << " image: " << why
+        << " (intrinsics for another resolution?)";
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(cx >= 0 && cx <= width && cy >= 0 && cy <= height)) {
+    fail("the principal point is outside the image");
+  }
+  // At 1 m the image spans width / fx metres across.
+  const double span_x = width / fx, span_y = height / fy;
+  if (std::min(span_x, span_y) < 1e-3 || std::max(span_x, span_y) > 1e3) {
+    std::ostringstream why;
+    why << "at 1 m depth the image would span " << span_x << " x " << span_y
+        << " m; a camera's spans between 0.001 and 1000 m";
+    fail(why.str());
+  }
+}
+
 namespace {
 
 // Metres per raw depth unit, after checking the image.
@@ -27,9 +51,12 @@ double metresPerUnit(const cv::Mat& depth, double depth_scale) {
   if (depth.type() == CV_32FC1) return 1.0;
   if (depth.type() != CV_16UC1) {
     std::ostringstream msg;
+    static const char* const kDepthNames[] = {"8-bit unsigned", "8-bit signed",   "16-bit unsigned",
+                                              "16-bit signed",  "32-bit integer", "32-bit float",
+                                              "64-bit float",   "16-bit float"};
     msg << "depth image must be 16-bit unsigned (raw units) or 32-bit float (metres) with one "
-           "channel; got OpenCV type "
-        << depth.type() << " with " << depth.channels() << " channel(s)";
+           "channel; this one is "
+        << kDepthNames[depth.depth()] << " with " << depth.channels() << " channel(s)";
     throw std::invalid_argument(msg.str());
   }
   if (!std::isfinite(depth_scale) || depth_scale <= 0) {
@@ -41,11 +68,30 @@ double metresPerUnit(const cv::Mat& depth, double depth_scale) {
   return 1.0 / depth_scale;
 }
 
+// A depth scale that puts every depth of a 16-bit image under 1 mm or beyond 10 km (e.g. 1e300
+// or 1e-300 units per metre) would give an empty cloud and a run with no planes and no reason.
+void requirePlausibleDepths(const cv::Mat& depth, double unit, double depth_scale) {
+  double nearest = 0, farthest = 0;
+  cv::minMaxLoc(depth, nullptr, &farthest);
+  if (farthest <= 0) return;  // nothing measured: an empty frame, not a wrong scale
+  cv::Mat measured = depth.clone();
+  measured.setTo(std::numeric_limits<std::uint16_t>::max(), depth == 0);
+  cv::minMaxLoc(measured, &nearest, nullptr);
+  if (farthest * unit < 1e-3 || nearest * unit > 1e4) {
+    std::ostringstream msg;
+    msg << "depth scale " << depth_scale << " puts this image's depths (raw " << nearest << " to "
+        << farthest << ") at " << nearest * unit << " to " << farthest * unit
+        << " m; it must be the raw units per metre (TUM: 5000, OpenNI millimetres: 1000)";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 template <class PointT, class Colorize>
 pcl::PointCloud<PointT> backProject(const cv::Mat& depth, const PinholeIntrinsics& k,
                                     double depth_scale, Colorize colorize) {
-  k.validate();
   const double unit = metresPerUnit(depth, depth_scale);
+  k.validateFor(depth.cols, depth.rows);
+  if (depth.type() == CV_16UC1) requirePlausibleDepths(depth, unit, depth_scale);
   pcl::PointCloud<PointT> cloud(static_cast<std::uint32_t>(depth.cols),
                                 static_cast<std::uint32_t>(depth.rows));
   cloud.is_dense = false;

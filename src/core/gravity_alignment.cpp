@@ -21,17 +21,23 @@ Eigen::Quaterniond checkedUnitQuaternion(double qx, double qy, double qz, double
         << ") has a NaN or infinite component";
     throw std::invalid_argument(msg.str());
   }
-  const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
+  // Scaled by the largest component before squaring: components of 1e200 (a corrupt line)
+  // would square to infinity and normalize to zeros, taken silently as no rotation.
+  const double scale = std::max({std::fabs(qx), std::fabs(qy), std::fabs(qz), std::fabs(qw)});
+  const double scaled_norm =
+      scale > 0 ? std::hypot(std::hypot(qx / scale, qy / scale), std::hypot(qz / scale, qw / scale))
+                : 0.0;
   // Below this a quaternion carries no direction worth trusting (e.g. an IMU that reports
   // all zeros when it has no orientation estimate).
-  if (norm < 1e-6) {
+  if (scale * scaled_norm < 1e-6) {
     std::ostringstream msg;
     msg << "orientation quaternion (x y z w) = (" << qx << " " << qy << " " << qz << " " << qw
         << ") has zero length; it describes no rotation (an IMU without an orientation "
            "estimate? use gravity instead)";
     throw std::invalid_argument(msg.str());
   }
-  return Eigen::Quaterniond(qw / norm, qx / norm, qy / norm, qz / norm);
+  return Eigen::Quaterniond(qw / scale / scaled_norm, qx / scale / scaled_norm,
+                            qy / scale / scaled_norm, qz / scale / scaled_norm);
 }
 
 void requireFinite(const char* what, double a, double b, double c) {
@@ -94,9 +100,12 @@ Orientation Orientation::fromPose(double tx, double ty, double tz, double qx, do
 
 Orientation Orientation::fromGravity(double gx, double gy, double gz) {
   requireFinite("gravity vector", gx, gy, gz);
-  const Eigen::Vector3d up(gx, gy, gz);
+  // Scaled before squaring, as the quaternion is: an overflowing length is not a zero one.
+  const double scale = std::max({std::fabs(gx), std::fabs(gy), std::fabs(gz)});
+  const Eigen::Vector3d up =
+      scale > 0 ? Eigen::Vector3d(gx / scale, gy / scale, gz / scale) : Eigen::Vector3d::Zero();
   const double norm = up.norm();
-  if (norm < 1e-6) {
+  if (scale * norm < 1e-6) {
     throw std::invalid_argument(
         "gravity vector has zero length; an accelerometer at rest measures about 9.81 m/s^2");
   }

@@ -96,8 +96,14 @@ LevellingParams LevellingParams::forExtraction(const Params& params) {
 
 void validate(const LevellingParams& params) {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
+  // A value as a person writes it: 1e+308, not 309 digits.
+  auto text = [](double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+  };
   if (!(params.cell >= 0.001 && params.cell <= 10.0)) {
-    fail("levelling cell must be in [0.001, 10] m (got " + std::to_string(params.cell) + ")");
+    fail("levelling cell must be in [0.001, 10] m (got " + text(params.cell) + ")");
   }
   if (params.max_points < 1000 || params.max_points > 100000000) {
     fail("levelling max_points must be in [1000, 1e8] (got " + std::to_string(params.max_points) +
@@ -105,11 +111,11 @@ void validate(const LevellingParams& params) {
   }
   if (!(params.max_correction_deg > 0 && params.max_correction_deg <= 30)) {
     fail("levelling max_correction must be in (0, 30] degrees (got " +
-         std::to_string(params.max_correction_deg) + ")");
+         text(params.max_correction_deg) + ")");
   }
   if (!(params.min_support_area >= 0 && params.min_support_area <= 1e6)) {
-    fail("levelling min_support_area must be in [0, 1e6] m² (got " +
-         std::to_string(params.min_support_area) + ")");
+    fail("levelling min_support_area must be in [0, 1e6] m² (got " + text(params.min_support_area) +
+         ")");
   }
 }
 

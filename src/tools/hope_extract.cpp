@@ -10,12 +10,15 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hope/extractor.h"
@@ -25,6 +28,7 @@
 #include "hope/tools/output_file.h"
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
+#include "hope/tools/run_summary.h"
 #include "hope/tools/sequence.h"
 #include "hope/up_estimation.h"
 
@@ -87,7 +91,10 @@ hope::tools::CommandLine commandLine() {
       .value("--tracking", "MODE", "improved (default) or paper (NNPM of §2.5, Eq 11-14)")
       .value("--jsonl", "FILE",
              "one JSON line per frame: {\"stamp\", \"file\", \"planes\": [...], \"events\"}")
-      .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp");
+      .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp")
+      .flag("--strict",
+            "stop at the first frame or list line that cannot be used (default: skip it, count "
+            "it, name it in the summary and in the JSON lines, and go on)");
   cl.section("parameters")
       .value("--r-xy", "M", "grid resolution in xy, metres (default 0.05)")
       .value("--r-z", "M",
@@ -273,6 +280,12 @@ hope::Params parameters(const Options& o) {
   // One thread unless asked: on a loaded machine a second one gains nothing
   // (docs/benchmark_threads.txt).
   params.threads = wholeNumber(o, "--threads", 1, 0, 1024);
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  if (cores > 0 && params.threads > cores) {
+    std::cerr << "hope_extract: warning: --threads " << params.threads << ": this machine has "
+              << cores << " core(s); using " << cores << "\n";
+    params.threads = cores;
+  }
   return params;
 }
 
@@ -298,25 +311,28 @@ class Progress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-int runSequence(const Options& o) {
+// The sequence's options checked against each other and the folder before any frame is read:
+// an option that cannot apply is an error, never silently ignored.
+hope::tools::SequenceOptions sequenceOptions(const Options& o) {
   for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay"}) {
     if (o.values.count(single)) {
       throw std::invalid_argument(std::string(single) +
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
     }
   }
-  const hope::Params params = parameters(o);
-  hope::Extractor extractor(params);
-  hope::UpEstimator estimator(levellingParams(o, params));
-  const bool level = o.flag("--level");
-  hope::TrackerOptions tracker_options;
-  if (o.values.count("--tracking"))
-    tracker_options.mode = hope::trackingModeFromString(o.values.at("--tracking"));
-  hope::PlaneTracker tracker(tracker_options);
-
+  if (o.values.count("--repeat")) {
+    throw std::invalid_argument(
+        "--repeat times repeated extractions of one input; it does not go with --sequence");
+  }
   hope::tools::SequenceOptions seq;
   seq.dir = o.values.at("--sequence");
+  if (!std::filesystem::is_directory(seq.dir)) {
+    throw std::invalid_argument(
+        "--sequence '" + seq.dir + "' " +
+        (std::filesystem::exists(seq.dir) ? "is not a folder" : "does not exist"));
+  }
   seq.max_time_difference = number(o, "--max-time-difference", seq.max_time_difference);
+  seq.strict = o.flag("--strict");
   const bool fixed = orientationGiven(o);
   const bool has_gt = o.values.count("--groundtruth") > 0;
   const bool has_acc = o.values.count("--accelerometer") > 0;
@@ -324,11 +340,9 @@ int runSequence(const Options& o) {
     throw std::invalid_argument(
         "give one orientation source: --groundtruth, --accelerometer, or a fixed one");
   }
-  hope::Orientation fixed_orientation = orientation(o);
   // --level alone: every frame levelled from its own scene (a folder's groundtruth.txt is not
   // read); with a source, that source's orientation refined.
-  const bool estimate_each = level && !fixed && !has_gt && !has_acc;
-  if (fixed || estimate_each) {
+  if (fixed || (o.flag("--level") && !has_gt && !has_acc)) {
     seq.source = hope::tools::OrientationSource::kNone;
   } else if (has_acc) {
     seq.source = hope::tools::OrientationSource::kAccelerometer;
@@ -342,18 +356,90 @@ int runSequence(const Options& o) {
                                   "FILE, one fixed --pose/--quaternion/--rpy/--gravity, or "
                                   "--level to level every frame from its scene");
     }
+    if (o.values.count("--viewpoint")) {
+      throw std::invalid_argument(
+          "--viewpoint does not go with ground-truth poses: each frame's viewpoint is its "
+          "pose's translation");
+    }
   }
-  const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
-  if (listing.skipped_without_orientation > 0) {
-    std::cerr << "hope_extract: warning: skipped " << listing.skipped_without_orientation
-              << " frame(s) with no orientation within " << seq.max_time_difference << " s\n";
+  if (seq.source == hope::tools::OrientationSource::kNone &&
+      o.values.count("--max-time-difference") && !o.values.count("--overlay-dir")) {
+    std::cerr << "hope_extract: warning: --max-time-difference pairs frames with poses, "
+                 "accelerometer samples or colour images; with a fixed orientation or --level "
+                 "alone and no --overlay-dir it has nothing to pair\n";
   }
+  return seq;
+}
 
-  const hope::PinholeIntrinsics k = sequenceIntrinsics(o, listing);
+// A frame's overlay file: named by its stamp, made unique when two frames share one.
+std::string overlayName(const std::string& dir, double stamp, std::set<std::string>& used) {
+  std::string name = hope::tools::stampText(stamp);
+  for (int copy = 2; !used.insert(name).second; ++copy) {
+    name = hope::tools::stampText(stamp) + "_" + std::to_string(copy);
+  }
+  return dir + "/" + name + ".png";
+}
+
+// A JSON line's opening members, a frame's and a skipped frame's alike.
+std::string lineStart(double stamp, const std::string& file) {
+  return "{\"stamp\": " + hope::tools::stampText(stamp) +
+         ", \"file\": " + hope::tools::jsonString(file);
+}
+
+void writeFrameLine(std::ostream& jsonl, double stamp, const std::string& file,
+                    const hope::Result& result, const hope::UpEstimate* levelled,
+                    const std::vector<hope::TrackEvent>& events) {
+  jsonl << lineStart(stamp, file) << ", "
+        << hope::tools::orientationJson(result.sensor_to_reference);
+  if (levelled) jsonl << ", \"levelling\": " << hope::tools::levellingJson(*levelled);
+  if (!result.warnings.empty()) {
+    jsonl << ", \"warnings\": [";
+    for (std::size_t w = 0; w < result.warnings.size(); ++w) {
+      jsonl << (w ? ", " : "") << hope::tools::jsonString(result.warnings[w]);
+    }
+    jsonl << "]";
+  }
+  jsonl << ", \"planes\": [";
+  for (std::size_t p = 0; p < result.planes.size(); ++p) {
+    jsonl << (p ? ", " : "");
+    hope::tools::writePlaneJson(jsonl, result.planes[p]);
+  }
+  jsonl << "], \"events\": [";
+  for (std::size_t e = 0; e < events.size(); ++e) {
+    jsonl << (e ? ", " : "") << "{\"kind\": \"" << hope::toString(events[e].kind)
+          << "\", \"id\": " << events[e].id << ", \"other_id\": " << events[e].other_id << "}";
+  }
+  jsonl << "]}\n";
+}
+
+int runSequence(const Options& o) {
+  hope::tools::SequenceOptions seq = sequenceOptions(o);
+  const hope::Params params = parameters(o);
+  hope::Extractor extractor(params);
+  hope::UpEstimator estimator(levellingParams(o, params));
+  const bool level = o.flag("--level");
+  const bool estimate_each =
+      level && seq.source == hope::tools::OrientationSource::kNone && !orientationGiven(o);
+  hope::TrackerOptions tracker_options;
+  if (o.values.count("--tracking"))
+    tracker_options.mode = hope::trackingModeFromString(o.values.at("--tracking"));
+  hope::PlaneTracker tracker(tracker_options);
+  const hope::Orientation fixed_orientation = orientation(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);
+
+  const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
+  const bool depth_frames = listing.layout == "TUM RGB-D";
+  if (!depth_frames && (o.values.count("--intrinsics") || o.values.count("--depth-scale"))) {
+    throw std::invalid_argument("--intrinsics and --depth-scale are for depth images; '" + seq.dir +
+                                "' is a folder of .pcd clouds");
+  }
+  hope::tools::RunSummary summary;
+  for (const std::string& line : listing.bad_lines) summary.skipLine(line);
+
+  const hope::PinholeIntrinsics k = sequenceIntrinsics(o, listing);
   // Outputs last, after every argument was checked; the JSON lines are renamed into place
-  // only when the whole sequence succeeded.
+  // when the run ends, with a record for every frame that was skipped.
   std::unique_ptr<hope::tools::OutputFile> jsonl_file;
   std::ofstream jsonl;
   if (o.values.count("--jsonl")) {
@@ -364,29 +450,71 @@ int runSequence(const Options& o) {
   const std::string overlay_dir =
       o.values.count("--overlay-dir") ? o.values.at("--overlay-dir") : "";
   if (!overlay_dir.empty()) std::filesystem::create_directories(overlay_dir);
+  std::set<std::string> overlay_names;
 
   Progress progress(listing.frames.size(), !o.flag("--quiet"));
   std::set<int> ids;
-  std::size_t total_planes = 0, processed = 0, refused = 0, uncorrected = 0;
-  std::string first_refusal, first_uncorrected;
+  std::size_t total_planes = 0, processed = 0, uncorrected = 0;
+  std::string first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
   hope::UpSmoother correction;  // refinement: the scene's up in the given frames
-  // A JSON line's opening members, a frame's and a skipped frame's alike.
-  auto lineStart = [](double stamp, const std::string& file) {
-    char text[40];
-    std::snprintf(text, sizeof(text), "%.6f", stamp);
-    return std::string("{\"stamp\": ") + text + ", \"file\": " + hope::tools::jsonString(file);
+  // Frames with no orientation near enough in time: recorded among the others, by stamp.
+  std::size_t next_unoriented = 0;
+  auto recordUnorientedUntil = [&](double stamp) {
+    for (; next_unoriented < listing.without_orientation.size() &&
+           listing.without_orientation[next_unoriented].stamp < stamp;
+         ++next_unoriented) {
+      const hope::tools::StampedFile& unoriented = listing.without_orientation[next_unoriented];
+      std::ostringstream reason;
+      reason << "no orientation within " << seq.max_time_difference << " s";
+      summary.skipFrame(reason.str(), unoriented.path, reason.str());
+      if (jsonl.is_open()) {
+        jsonl << lineStart(unoriented.stamp, unoriented.path)
+              << ", \"skipped\": " << hope::tools::jsonString(reason.str()) << "}\n";
+      }
+    }
   };
   for (std::size_t f = 0; f < listing.frames.size(); ++f) {
     const hope::tools::SequenceFrame& frame = listing.frames[f];
+    recordUnorientedUntil(frame.stamp);
     const std::string& file = frame.depth.empty() ? frame.cloud : frame.depth;
-    const hope::tools::InputCloud input =
-        frame.depth.empty()
-            ? hope::tools::loadCloud(frame.cloud, max_points)
-            : hope::tools::loadDepth(frame.depth, overlay_dir.empty() ? "" : frame.rgb, k,
-                                     depth_scale);
+    // A frame that cannot be used is skipped, named and counted (--strict: the run stops):
+    // one corrupt file must not lose the frames around it.
+    auto skip = [&](const std::string& kind, const std::string& reason) {
+      if (seq.strict) {
+        throw std::runtime_error(reason.find(file) != std::string::npos ? reason
+                                                                        : file + ": " + reason);
+      }
+      summary.skipFrame(kind, file, reason);
+      if (jsonl.is_open()) {
+        jsonl << lineStart(frame.stamp, file)
+              << ", \"skipped\": " << hope::tools::jsonString(reason) << "}\n";
+      }
+      progress.update(f + 1);
+    };
+    hope::tools::InputCloud input;
+    try {
+      input = frame.depth.empty()
+                  ? hope::tools::loadCloud(frame.cloud, max_points)
+                  : hope::tools::loadDepth(frame.depth, overlay_dir.empty() ? "" : frame.rgb, k,
+                                           depth_scale, max_points);
+    } catch (const std::bad_alloc&) {
+      skip("could not be read", "out of memory reading it");
+      continue;
+    } catch (const std::exception& error) {
+      skip("could not be read", error.what());
+      continue;
+    }
     hope::Orientation frame_orientation =
         seq.source == hope::tools::OrientationSource::kNone ? fixed_orientation : frame.orientation;
+    // A depth image's points are in the camera's frame: the sensor is at the origin unless
+    // the orientation says where it was (a pose) or --viewpoint does.
+    if (depth_frames && !frame_orientation.viewpoint()) {
+      frame_orientation = frame_orientation.withViewpoint(Eigen::Vector3d::Zero());
+    }
+    if (seq.source == hope::tools::OrientationSource::kAccelerometer) {
+      frame_orientation = withViewpointOption(o, frame_orientation);
+    }
     std::optional<hope::UpEstimate> levelled;
     if (estimate_each) {
       try {
@@ -394,15 +522,10 @@ int runSequence(const Options& o) {
       } catch (const hope::LevellingError& error) {
         // A frame with nothing level in view (the camera facing a wall) is skipped, not
         // guessed: the tracker does not see it, the JSON lines record it.
-        if (refused++ == 0) first_refusal = file + ": " + error.what();
-        if (jsonl.is_open()) {
-          jsonl << lineStart(frame.stamp, file)
-                << ", \"skipped\": " << hope::tools::jsonString(error.what()) << "}\n";
-        }
-        progress.update(f + 1);
+        skip("nothing level in view to find up from", error.what());
         continue;
       }
-      frame_orientation = levelled->orientation;
+      frame_orientation = withViewpointOption(o, levelled->orientation);
     } else if (level) {
       // Each frame's correction blended into a running one (UpSmoother, as the nodelet does): the
       // scene's up in the given reference frame. Corrected frame by frame, the kitchen sequence's
@@ -432,47 +555,36 @@ int runSequence(const Options& o) {
     extract_ms += result.timings.total_ms;
     total_planes += result.planes.size();
     for (const auto& p : result.planes) ids.insert(p.id);
+    for (const auto& warning : result.warnings) summary.warn(file, warning);
 
     if (jsonl.is_open()) {
-      jsonl << lineStart(frame.stamp, file) << ", "
-            << hope::tools::orientationJson(result.sensor_to_reference);
-      if (levelled) jsonl << ", \"levelling\": " << hope::tools::levellingJson(*levelled);
-      jsonl << ", \"planes\": [";
-      for (std::size_t p = 0; p < result.planes.size(); ++p) {
-        jsonl << (p ? ", " : "");
-        hope::tools::writePlaneJson(jsonl, result.planes[p]);
-      }
-      jsonl << "], \"events\": [";
-      for (std::size_t e = 0; e < events.size(); ++e) {
-        jsonl << (e ? ", " : "") << "{\"kind\": \"" << hope::toString(events[e].kind)
-              << "\", \"id\": " << events[e].id << ", \"other_id\": " << events[e].other_id << "}";
-      }
-      jsonl << "]}\n";
+      writeFrameLine(jsonl, frame.stamp, file, result, levelled ? &*levelled : nullptr, events);
     }
     if (!overlay_dir.empty()) {
-      char name[64];
-      std::snprintf(name, sizeof(name), "/%.6f.png", frame.stamp);
-      hope::tools::OutputFile overlay(overlay_dir + name);
+      hope::tools::OutputFile overlay(overlayName(overlay_dir, frame.stamp, overlay_names));
       hope::tools::writeImage(overlay,
                               hope::tools::renderOverlay(input, extractor.alignedPoints(), result));
       overlay.commit();
     }
     progress.update(f + 1);
   }
+  recordUnorientedUntil(std::numeric_limits<double>::infinity());
   if (jsonl_file) {
     jsonl.close();
     if (jsonl.fail()) hope::tools::throwCannotWrite(jsonl_file->path());
     jsonl_file->commit();
   }
-  if (refused > 0) {
-    std::cerr << "hope_extract: warning: " << refused << " frame(s) skipped with nothing level in "
-              << "view to find up from (the first: " << first_refusal << ")\n";
-  }
+  summary.print(std::cerr, "hope_extract");
   if (uncorrected > 0) {
     std::cerr << "hope_extract: warning: --level kept the given orientation of " << uncorrected
               << " frame(s) (the first: " << first_uncorrected << ")\n";
   }
-  const double n = static_cast<double>(std::max<std::size_t>(processed, 1));
+  if (processed == 0) {
+    throw std::runtime_error("none of the " + std::to_string(summary.skippedFrames()) +
+                             " frame(s) of '" + seq.dir +
+                             "' could be used (the reasons are in the warnings above)");
+  }
+  const double n = static_cast<double>(processed);
   std::printf(
       "%zu frame(s) of %s (%s, %s tracking): %.1f planes/frame, %zu distinct ids, extraction "
       "%.2f ms/frame, tracking %.3f ms/frame",
@@ -482,15 +594,16 @@ int runSequence(const Options& o) {
     std::printf(", %s from the scene %.2f ms/frame", estimate_each ? "levelling" : "refinement",
                 level_ms / n);
   }
-  std::printf("%s\n", refused ? (", " + std::to_string(refused) + " skipped").c_str() : "");
+  const std::size_t skipped = summary.skippedFrames();
+  std::printf("%s\n", skipped ? (", " + std::to_string(skipped) + " skipped").c_str() : "");
   return 0;
 }
 
 int run(const Options& o) {
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
-                                    "--tracking", "--jsonl", "--overlay-dir"}) {
-    if (o.values.count(sequence_only)) {
+                                    "--tracking", "--jsonl", "--overlay-dir", "--strict"}) {
+    if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
     }
   }
@@ -527,7 +640,7 @@ int run(const Options& o) {
     input = hope::tools::loadCloud(o.values.at("--input"), max_points);
   } else {
     const auto rgb = o.values.count("--rgb") ? o.values.at("--rgb") : std::string();
-    input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale);
+    input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale, max_points);
   }
 
   std::optional<hope::UpEstimate> levelled;

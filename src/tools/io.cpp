@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -40,6 +43,37 @@ std::string labelsPcdHeader(const InputCloud& cloud) {
   return header.str();
 }
 
+// A PNG's size and kind from its IHDR chunk, checked before any pixel is decoded: a 1 MB PNG
+// of 20000 x 20000 zeros would otherwise take 800 MB to decode and 4.8 GB as points. Other
+// formats are left to the decoder.
+void checkPngHeader(const std::string& path, std::uint64_t max_points) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[26] = {};
+  if (!in.read(reinterpret_cast<char*>(header), sizeof(header))) return;
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (std::memcmp(header, kSignature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0) return;
+  auto bigEndian = [&](int at) {
+    return (std::uint32_t(header[at]) << 24) | (std::uint32_t(header[at + 1]) << 16) |
+           (std::uint32_t(header[at + 2]) << 8) | std::uint32_t(header[at + 3]);
+  };
+  const std::uint64_t width = bigEndian(16), height = bigEndian(20);
+  if (width * height > max_points) {
+    throw std::runtime_error("'" + path + "' is a " + std::to_string(width) + " x " +
+                             std::to_string(height) + " image, more pixels than --max-points " +
+                             std::to_string(max_points));
+  }
+  const int bit_depth = header[24], colour_type = header[25];
+  if (colour_type != 0) {  // 0: grey; 2 RGB, 3 palette, 4 grey + alpha, 6 RGBA
+    throw std::runtime_error("'" + path + "' is a colour PNG (" + std::to_string(bit_depth) +
+                             "-bit, colour type " + std::to_string(colour_type) +
+                             "); a depth image has one grey channel");
+  }
+  if (bit_depth != 16) {
+    throw std::runtime_error("'" + path + "' is a grey PNG of " + std::to_string(bit_depth) +
+                             " bits a pixel; depth PNGs have 16 (raw units, see --depth-scale)");
+  }
+}
+
 }  // namespace
 
 InputCloud loadCloud(const std::string& path, std::uint64_t max_points) {
@@ -48,18 +82,37 @@ InputCloud loadCloud(const std::string& path, std::uint64_t max_points) {
 }
 
 InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
-                     const PinholeIntrinsics& intrinsics, double depth_scale) {
+                     const PinholeIntrinsics& intrinsics, double depth_scale,
+                     std::uint64_t max_points) {
   requireRegularFile(depth_path);
+  checkPngHeader(depth_path, max_points);
+  // Every other format: OpenCV refuses images of more pixels than this before decoding. It
+  // reads the variable once, at its first image; a user's own setting is kept.
+  ::setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(max_points).c_str(), 0);
   cv::Mat depth;
-  if (!readImageFile(depth_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE, depth))
+  // Unchanged, not converted: a colour image or a 16-bit RGB PNG must be refused as depth,
+  // not averaged into one.
+  if (!readImageFile(depth_path, cv::IMREAD_UNCHANGED, depth))
     throw std::runtime_error("'" + depth_path + "' is not a readable image");
-  if (rgb_path.empty()) return fromImageCloud(depthToCloud(depth, intrinsics, depth_scale));
+  if (static_cast<std::uint64_t>(depth.total()) > max_points) {
+    throw std::runtime_error("'" + depth_path + "' has " + std::to_string(depth.total()) +
+                             " pixels, more than --max-points " + std::to_string(max_points));
+  }
+  try {
+    if (rgb_path.empty()) return fromImageCloud(depthToCloud(depth, intrinsics, depth_scale));
+  } catch (const std::invalid_argument& e) {  // the image's type or size: name the file
+    throw std::runtime_error("'" + depth_path + "': " + e.what());
+  }
   requireRegularFile(rgb_path);
   cv::Mat rgb;
   if (!readImageFile(rgb_path, cv::IMREAD_COLOR, rgb))
     throw std::runtime_error("'" + rgb_path + "' is not a readable image");
-  const pcl::PointCloud<pcl::PointXYZRGB> colored =
-      depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
+  pcl::PointCloud<pcl::PointXYZRGB> colored;
+  try {
+    colored = depthToColoredCloud(depth, rgb, intrinsics, depth_scale);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error("'" + depth_path + "' with '" + rgb_path + "': " + e.what());
+  }
   InputCloud input = fromImageCloud(colored);
   input.rgb.reserve(colored.size());
   for (const pcl::PointXYZRGB& p : colored) {
@@ -100,23 +153,45 @@ void writeImage(const OutputFile& file, const cv::Mat& image) {
   if (!writeImageFile(file.writePath(), image)) throwCannotWrite(file.path());
 }
 
+std::string printableExcerpt(const std::string& text, std::size_t max_chars) {
+  std::string out;
+  std::size_t shown = 0;
+  for (; shown < text.size() && out.size() < max_chars; ++shown) {
+    const unsigned char c = static_cast<unsigned char>(text[shown]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
+      out += hex;
+    }
+  }
+  if (shown < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
 std::vector<double> parseNumbers(const std::string& text, std::size_t count, const char* what) {
   std::istringstream in(text);
   std::vector<double> values;
   std::string token;
   while (in >> token) {
-    try {
-      std::size_t used = 0;
-      values.push_back(std::stod(token, &used));
-      if (used != token.size()) throw std::invalid_argument(token);
-    } catch (const std::exception&) {
-      throw std::invalid_argument(std::string(what) + ": '" + token + "' is not a number");
+    // strtod, not std::stod: stod refuses subnormals such as 1e-310 as "out of range".
+    char* end = nullptr;
+    const double value = std::strtod(token.c_str(), &end);
+    if (end != token.c_str() + token.size()) {
+      throw std::invalid_argument(std::string(what) + ": '" + printableExcerpt(token) +
+                                  "' is not a number");
     }
+    if (!std::isfinite(value)) {
+      throw std::invalid_argument(std::string(what) + ": '" + printableExcerpt(token) +
+                                  "' is not a finite number");
+    }
+    values.push_back(value);
   }
   if (values.size() != count) {
     std::ostringstream msg;
-    msg << what << ": expected " << count << " numbers, got " << values.size() << " in '" << text
-        << "'";
+    msg << what << ": expected " << count << " numbers, got " << values.size() << " in '"
+        << printableExcerpt(text) << "'";
     throw std::invalid_argument(msg.str());
   }
   return values;

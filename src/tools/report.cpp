@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 
 namespace hope {
@@ -21,15 +22,63 @@ std::string vec3(const Eigen::Vector3d& v) {
   return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]";
 }
 
+// Length of the well-formed UTF-8 sequence starting at s[i], or 0 when it is not one (a
+// stray continuation byte, an overlong form, a surrogate, a cut sequence).
+std::size_t utf8SequenceLength(const std::string& s, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char lead = byte(i);
+  std::size_t length = 0;
+  unsigned char lo = 0x80, hi = 0xbf;  // the range of the second byte
+  if (lead >= 0xc2 && lead <= 0xdf) {
+    length = 2;
+  } else if (lead >= 0xe0 && lead <= 0xef) {
+    length = 3;
+    if (lead == 0xe0) lo = 0xa0;
+    if (lead == 0xed) hi = 0x9f;
+  } else if (lead >= 0xf0 && lead <= 0xf4) {
+    length = 4;
+    if (lead == 0xf0) lo = 0x90;
+    if (lead == 0xf4) hi = 0x8f;
+  } else {
+    return 0;
+  }
+  if (i + length > s.size()) return 0;
+  if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < length; ++k) {
+    if (byte(i + k) < 0x80 || byte(i + k) > 0xbf) return 0;
+  }
+  return length;
+}
+
+// JSON string content: quotes and backslashes escaped, control characters as \u00NN, and a
+// byte that is not part of valid UTF-8 (a Latin-1 file name) as the character of that code
+// (\u00NN), so that the output is always valid UTF-8 JSON and the name still readable.
 std::string escape(const std::string& s) {
   std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += ' ';
-      continue;
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+      ++i;
+    } else if (c < 0x80) {
+      if (c < 0x20 || c == 0x7f) {
+        char code[8];
+        std::snprintf(code, sizeof(code), "\\u%04x", c);
+        out += code;
+      } else {
+        out += static_cast<char>(c);
+      }
+      ++i;
+    } else if (const std::size_t length = utf8SequenceLength(s, i)) {
+      out.append(s, i, length);
+      i += length;
+    } else {
+      char code[8];
+      std::snprintf(code, sizeof(code), "\\u%04x", c);
+      out += code;
+      ++i;
     }
-    out += c;
   }
   return out;
 }
@@ -37,6 +86,16 @@ std::string escape(const std::string& s) {
 }  // namespace
 
 std::string jsonString(const std::string& text) { return "\"" + escape(text) + "\""; }
+
+std::string stampText(double stamp) {
+  char text[40];
+  if (std::fabs(stamp) < 1e15) {
+    std::snprintf(text, sizeof(text), "%.6f", stamp);
+    if (std::strtod(text, nullptr) == stamp) return text;
+  }
+  std::snprintf(text, sizeof(text), "%.17g", stamp);  // round-trips any double, <= 24 chars
+  return text;
+}
 
 void printTable(std::ostream& out, const Result& result) {
   char line[200];

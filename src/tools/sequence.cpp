@@ -4,8 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "hope/tools/cloud_file.h"
+#include "hope/tools/io.h"
 
 namespace hope {
 namespace tools {
@@ -14,27 +18,74 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Calls `parse(line_stream, line_number)` for every non-empty, non-comment line.
+// Calls `parse(fields)` for every non-empty, non-comment line of the list file `path`, read as
+// sequence.h says (a regular file, bounded sizes). `parse` returns false for a line that does
+// not have the form `expected`, or throws with the reason (e.g. a zero quaternion); either way
+// the problem names the file and line and is thrown, or recorded in *bad_lines and skipped.
 template <class Parse>
-void forEachDataLine(const std::string& path, Parse parse) {
-  std::ifstream in(path);
+void forEachDataLine(const std::string& path, const char* expected,
+                     std::vector<std::string>* bad_lines, Parse parse) {
+  const std::uint64_t bytes = requireRegularFile(path);
+  if (bytes > kMaxListFileBytes) {
+    throw std::runtime_error("'" + path + "' has " + std::to_string(bytes) +
+                             " bytes, more than a list of " + expected + " lines could (" +
+                             std::to_string(kMaxListFileBytes) + " at most)");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read '" + path + "'");
+  auto problem = [&](int number, const std::string& why) {
+    const std::string text = path + ":" + std::to_string(number) + ": " + why;
+    if (!bad_lines) throw std::runtime_error(text);
+    bad_lines->push_back(text);
+  };
   std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
+  int number = 0;
+  while (true) {
+    line.clear();
+    // Read one line, but never more than kMaxListLineBytes of it: a file with no newline (a
+    // binary file, a 64 MB line) is refused after that much, not read whole.
+    char c;
+    bool got_any = false, too_long = false;
+    while (in.get(c)) {
+      got_any = true;
+      if (c == '\n') break;
+      if (line.size() >= kMaxListLineBytes) {
+        too_long = true;
+        break;
+      }
+      line += c;
+    }
+    if (!got_any) break;
+    ++number;
+    if (too_long) {
+      problem(number, "line longer than " + std::to_string(kMaxListLineBytes) +
+                          " bytes: not a list of \"" + expected + "\" lines ('" +
+                          printableExcerpt(line.substr(0, 60)) + "...')");
+      in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+      continue;
+    }
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     std::istringstream fields(line);
-    bool parsed = false;
     try {
-      parsed = parse(fields);
+      if (!parse(fields)) {
+        problem(number, "expected \"" + std::string(expected) + "\", found '" +
+                            printableExcerpt(line) + "'");
+      }
     } catch (const std::exception& e) {  // e.g. a zero quaternion: say where it is
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": " + e.what());
-    }
-    if (!parsed) {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": cannot parse '" + line +
-                               "'");
+      problem(number, e.what());
     }
   }
+}
+
+// The rest of a line after its first fields, without surrounding blanks: a file name may hold
+// spaces.
+std::string restOfLine(std::istringstream& fields) {
+  std::string rest;
+  std::getline(fields, rest);
+  const auto first = rest.find_first_not_of(" \t");
+  const auto last = rest.find_last_not_of(" \t\r");
+  return first == std::string::npos ? std::string() : rest.substr(first, last - first + 1);
 }
 
 template <class Stamped>
@@ -45,11 +96,14 @@ void sortByStamp(std::vector<Stamped>& entries) {
 
 }  // namespace
 
-std::vector<StampedFile> readFileList(const std::string& list_path, const std::string& base_dir) {
+std::vector<StampedFile> readFileList(const std::string& list_path, const std::string& base_dir,
+                                      std::vector<std::string>* bad_lines) {
   std::vector<StampedFile> files;
-  forEachDataLine(list_path, [&](std::istringstream& fields) {
+  forEachDataLine(list_path, "timestamp filename", bad_lines, [&](std::istringstream& fields) {
     StampedFile f;
-    if (!(fields >> f.stamp >> f.path) || !std::isfinite(f.stamp)) return false;
+    if (!(fields >> f.stamp) || !std::isfinite(f.stamp)) return false;
+    f.path = restOfLine(fields);
+    if (f.path.empty()) return false;
     f.path = (fs::path(base_dir) / f.path).string();
     files.push_back(f);
     return true;
@@ -60,7 +114,7 @@ std::vector<StampedFile> readFileList(const std::string& list_path, const std::s
 
 PinholeIntrinsics readIntrinsics(const std::string& path) {
   std::vector<PinholeIntrinsics> found;
-  forEachDataLine(path, [&](std::istringstream& fields) {
+  forEachDataLine(path, "fx fy cx cy", nullptr, [&](std::istringstream& fields) {
     PinholeIntrinsics k;
     std::string extra;
     if (!(fields >> k.fx >> k.fy >> k.cx >> k.cy) || (fields >> extra)) return false;
@@ -75,28 +129,35 @@ PinholeIntrinsics readIntrinsics(const std::string& path) {
   return found.front();
 }
 
-std::vector<StampedPose> readGroundTruth(const std::string& path) {
+std::vector<StampedPose> readGroundTruth(const std::string& path,
+                                         std::vector<std::string>* bad_lines) {
   std::vector<StampedPose> poses;
-  forEachDataLine(path, [&](std::istringstream& fields) {
-    double t, tx, ty, tz, qx, qy, qz, qw;
-    if (!(fields >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw)) return false;
-    StampedPose p;
-    p.stamp = t;
-    // Validates (finite, non-zero) and normalizes the quaternion.
-    p.pose = Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw).sensorToReference();
-    poses.push_back(p);
-    return true;
-  });
+  forEachDataLine(
+      path, "timestamp tx ty tz qx qy qz qw", bad_lines, [&](std::istringstream& fields) {
+        double t, tx, ty, tz, qx, qy, qz, qw;
+        if (!(fields >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw) || !std::isfinite(t)) {
+          return false;
+        }
+        StampedPose p;
+        p.stamp = t;
+        // Validates (finite, non-zero) and normalizes the quaternion.
+        p.pose = Orientation::fromPose(tx, ty, tz, qx, qy, qz, qw).sensorToReference();
+        poses.push_back(p);
+        return true;
+      });
   sortByStamp(poses);
   return poses;
 }
 
-std::vector<StampedVector> readAccelerometer(const std::string& path) {
+std::vector<StampedVector> readAccelerometer(const std::string& path,
+                                             std::vector<std::string>* bad_lines) {
   std::vector<StampedVector> samples;
-  forEachDataLine(path, [&](std::istringstream& fields) {
+  forEachDataLine(path, "timestamp ax ay az", bad_lines, [&](std::istringstream& fields) {
     StampedVector s;
     if (!(fields >> s.stamp >> s.value.x() >> s.value.y() >> s.value.z())) return false;
-    if (!s.value.allFinite()) return false;
+    if (!std::isfinite(s.stamp)) return false;
+    // A zero or non-finite vector is refused here, with its line, not when a frame uses it.
+    Orientation::fromGravity(s.value.x(), s.value.y(), s.value.z());
     samples.push_back(s);
     return true;
   });
@@ -132,13 +193,18 @@ SequenceListing listSequence(const SequenceOptions& options) {
     throw std::invalid_argument("the largest time difference must be >= 0 seconds");
   }
   SequenceListing listing;
+  std::vector<std::string>* bad_lines = options.strict ? nullptr : &listing.bad_lines;
+  // A name that is there at all, a dangling link included: its reader then says what is wrong
+  // with it instead of the folder being taken for another layout.
+  auto present = [](const fs::path& p) { return fs::exists(fs::symlink_status(p)); };
   std::vector<StampedFile> inputs, colour;
-  const bool tum = fs::exists(dir / "depth.txt");
+  const bool tum = present(dir / "depth.txt");
   if (tum) {
     listing.layout = "TUM RGB-D";
-    inputs = readFileList((dir / "depth.txt").string(), options.dir);
-    if (fs::exists(dir / "rgb.txt")) colour = readFileList((dir / "rgb.txt").string(), options.dir);
-    if (fs::exists(dir / "intrinsics.txt"))
+    inputs = readFileList((dir / "depth.txt").string(), options.dir, bad_lines);
+    if (present(dir / "rgb.txt"))
+      colour = readFileList((dir / "rgb.txt").string(), options.dir, bad_lines);
+    if (present(dir / "intrinsics.txt"))
       listing.intrinsics_file = (dir / "intrinsics.txt").string();
   } else {
     listing.layout = "PCD folder";
@@ -161,9 +227,18 @@ SequenceListing listSequence(const SequenceOptions& options) {
     }
     sortByStamp(inputs);
   }
+  // The first skipped line, to be said with a failure it explains.
+  auto firstBadLine = [&] {
+    return listing.bad_lines.empty()
+               ? std::string()
+               : "; " + std::to_string(listing.bad_lines.size()) +
+                     " line(s) could not be read, the first: " + listing.bad_lines.front();
+  };
   if (inputs.empty()) {
-    throw std::runtime_error("no frames in '" + options.dir +
-                             "' (expected depth.txt of the TUM layout, or .pcd files)");
+    throw std::runtime_error("no frames in '" + options.dir + "' (" +
+                             (tum ? "depth.txt lists none" + firstBadLine()
+                                  : "expected depth.txt of the TUM layout, or .pcd files") +
+                             ")");
   }
 
   std::vector<StampedPose> poses;
@@ -171,10 +246,10 @@ SequenceListing listSequence(const SequenceOptions& options) {
   std::string orientation_file = options.orientation_file;
   if (options.source == OrientationSource::kGroundTruth) {
     if (orientation_file.empty()) orientation_file = (dir / "groundtruth.txt").string();
-    poses = readGroundTruth(orientation_file);
+    poses = readGroundTruth(orientation_file, bad_lines);
   } else if (options.source == OrientationSource::kAccelerometer) {
     if (orientation_file.empty()) orientation_file = (dir / "accelerometer.txt").string();
-    gravity = readAccelerometer(orientation_file);
+    gravity = readAccelerometer(orientation_file, bad_lines);
   }
 
   for (const StampedFile& input : inputs) {
@@ -185,6 +260,7 @@ SequenceListing listSequence(const SequenceOptions& options) {
       const int k = nearestInTime(poses, input.stamp, options.max_time_difference);
       if (k < 0) {
         ++listing.skipped_without_orientation;
+        listing.without_orientation.push_back(input);
         continue;
       }
       frame.orientation = Orientation::fromTransform(poses[k].pose);
@@ -192,6 +268,7 @@ SequenceListing listSequence(const SequenceOptions& options) {
       const int k = nearestInTime(gravity, input.stamp, options.max_time_difference);
       if (k < 0) {
         ++listing.skipped_without_orientation;
+        listing.without_orientation.push_back(input);
         continue;
       }
       const Eigen::Vector3d& g = gravity[k].value;
@@ -202,9 +279,10 @@ SequenceListing listSequence(const SequenceOptions& options) {
     listing.frames.push_back(frame);
   }
   if (listing.frames.empty()) {
-    throw std::runtime_error("no frame of '" + options.dir + "' has an orientation within " +
-                             std::to_string(options.max_time_difference) + " s in '" +
-                             orientation_file + "'");
+    std::ostringstream msg;
+    msg << "no frame of '" << options.dir << "' has an orientation within "
+        << options.max_time_difference << " s in '" << orientation_file << "'" << firstBadLine();
+    throw std::runtime_error(msg.str());
   }
   return listing;
 }

@@ -19,10 +19,14 @@ namespace tools {
 // x, y, z fields (see cloud_file.h: hope reads both formats itself, not with PCL's readers).
 InputCloud loadCloud(const std::string& path, std::uint64_t max_points = kDefaultMaxPoints);
 
-// Reads a depth PNG (16-bit raw units or 32-bit float metres) and, optionally, a registered
-// colour image, and back-projects them into an organized cloud in the camera optical frame.
+// Reads a depth image (a 16-bit grey PNG of raw units, or one channel of 32-bit float metres)
+// and, optionally, a registered colour image, and back-projects them into an organized cloud
+// in the camera optical frame. Throws std::runtime_error naming the file when it is not a
+// regular file, not an image, has more than `max_points` pixels (checked before decoding for
+// a PNG), is a colour or 8-bit image, or does not fit the intrinsics.
 InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
-                     const PinholeIntrinsics& intrinsics, double depth_scale);
+                     const PinholeIntrinsics& intrinsics, double depth_scale,
+                     std::uint64_t max_points = kDefaultMaxPoints);
 
 // Writes x, y, z (as read) and one `label` per input point, same count, order and
 // width × height as the input, as binary PCD. Throws std::runtime_error when it cannot.
@@ -32,6 +36,11 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
 // Writes an image in the format of the file's extension (.png, .jpg, …); throws
 // std::runtime_error when it cannot.
 void writeImage(const OutputFile& file, const cv::Mat& image);
+
+// `text` as it can be shown in a message: bytes that are not printable ASCII written as \xNN,
+// cut after `max_chars` with the full length said, so that a binary file or a 64 MB line
+// never floods the terminal.
+std::string printableExcerpt(const std::string& text, std::size_t max_chars = 80);
 
 // Parses exactly `count` whitespace-separated numbers, e.g. "517.3 516.5 318.6 255.3".
 // Throws std::invalid_argument naming `what` otherwise.

@@ -30,8 +30,13 @@ std::string levellingJson(const UpEstimate& estimate);
 // One plane as a JSON object on one line: every field of hope::HorizontalPlane.
 void writePlaneJson(std::ostream& out, const HorizontalPlane& plane);
 
-// A string as a JSON string literal (quotes added, control characters replaced).
+// A string as a JSON string literal: quotes added, control characters escaped, bytes that are
+// not valid UTF-8 written as \u00NN (read as Latin-1), so the JSON is valid whatever the bytes.
 std::string jsonString(const std::string& text);
+
+// A timestamp as text that reads back as the same double: "%.6f" (TUM's form) when that
+// round-trips, all 17 significant digits otherwise (1e45 included); never cut.
+std::string stampText(double stamp);
 
 }  // namespace tools
 }  // namespace hope

@@ -11,9 +11,11 @@
 #include "hope/gravity_alignment.h"
 #include "hope/grid_filter.h"
 #include "hope/params.h"
+#include "hope/placement.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"
 #include "hope/scan_gap_bridging.h"
+#include "hope/standing_objects.h"
 
 namespace hope {
 
@@ -27,6 +29,7 @@ struct StageTimings {
   double refinement_ms = 0;
   double description_ms = 0;
   double merging_ms = 0;  // the fragment merge (fragment_merging.h), 0 when switched off
+  double objects_ms = 0;  // objects and free areas (ExtractOutputs::objects), 0 otherwise
   double total_ms = 0;
 };
 
@@ -56,6 +59,10 @@ struct Result {
   std::size_t merged_fragments = 0;
   // Suspicious input that still produced a result (e.g. a cloud that looks like millimetres).
   std::vector<std::string> warnings;
+  // With ExtractOutputs::objects: what stands on each plane (standing_objects.h), and per
+  // input point the index into `objects` or -1. Each plane's free_area is set too.
+  std::vector<StandingObject> objects;
+  std::vector<std::int32_t> point_objects;
 
   // Input indices of the points of plane `index`.
   std::vector<std::uint32_t> pointsOf(std::size_t index) const;
@@ -67,6 +74,9 @@ struct Result {
 // --overlay) can leave them out.
 struct ExtractOutputs {
   bool point_labels = true;  // Result::point_labels; left empty when false
+  // Result::objects, point_objects and each plane's free_area (point_labels are made too).
+  bool objects = false;
+  ObjectParams object_params;
 };
 
 class Extractor {
@@ -89,6 +99,11 @@ class Extractor {
     return extract(PointsView::of(cloud), orientation, outputs);
   }
 
+  // Where `query`'s footprint fits on the planes of `result`, which must be the last call's
+  // (with point labels): poses on observed surface clear of what stands there, best first
+  // (placement.h). Throws std::invalid_argument for a bad footprint or plane index.
+  std::vector<Placement> findPlacements(const Result& result, const PlacementQuery& query) const;
+
   // Intermediate products of the last call, for visualization and tests. Aligned points are
   // in the reference frame minus Result::local_origin, one per input point, in input order.
   // When the orientation needed no rotation and no translation, extract() made no copy and
@@ -99,6 +114,9 @@ class Extractor {
   const std::vector<std::uint8_t>& candidateMask() const { return is_candidate_; }
 
  private:
+  // The objects standing on result's planes and each plane's free area.
+  void describeWhatStands(Result& result, const ObjectParams& object_params) const;
+
   Params params_;
   std::vector<Eigen::Vector3f> aligned_;  // the aligned copy, when one is needed
   AlignedPoints aligned_view_;            // what the stages read: aligned_ or the input

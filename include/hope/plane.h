@@ -30,6 +30,9 @@ struct HorizontalPlane {
   double tilt = 0.0;
   // Footprint at grid resolution: occupied xy cells · r_xy², m².
   double area = 0.0;
+  // Observed surface with nothing standing on it, on cells of r_z / 2, m² (placement.h); set
+  // only when objects were asked for (ExtractOutputs::objects), 0 otherwise.
+  double free_area = 0.0;
   std::size_t num_voxels = 0;
   std::size_t num_points = 0;
   // How many connected regions (the paper's planes) the fragment merge joined into this one

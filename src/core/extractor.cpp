@@ -1,5 +1,7 @@
 #include "hope/extractor.h"
 
+#include "hope/placement.h"
+
 #include <chrono>
 #include <optional>
 #include <sstream>
@@ -131,7 +133,7 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   // Each kept surface measured in full, as the paper's planes are: bbox and hull from the
   // points, for all surfaces in one read of the points' voxels, which labels the points too.
   PointLabelling labelling;
-  if (outputs.point_labels) {
+  if (outputs.point_labels || outputs.objects) {
     result.point_labels.resize(cloud.count);
     labelling.voxel_label = &voxel_plane_;
     labelling.point_labels = result.point_labels.data();
@@ -147,8 +149,31 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     result.planes.push_back(std::move(*plane));
   }
   result.timings.description_ms += stage.lap();
+
+  if (outputs.objects) describeWhatStands(result, outputs.object_params);
+  result.timings.objects_ms = stage.lap();
   result.timings.total_ms = total.lap();
   return result;
+}
+
+void Extractor::describeWhatStands(Result& result, const ObjectParams& object_params) const {
+  StandingObjects standing = findStandingObjects(aligned_view_, result.planes, result.point_labels,
+                                                 result.local_origin, params_, object_params);
+  result.objects = std::move(standing.objects);
+  result.point_objects = std::move(standing.point_objects);
+  const std::vector<double> free =
+      freeAreas(aligned_view_, result.planes, result.point_labels, result.local_origin, params_);
+  for (std::size_t p = 0; p < result.planes.size(); ++p) result.planes[p].free_area = free[p];
+}
+
+std::vector<Placement> Extractor::findPlacements(const Result& result,
+                                                 const PlacementQuery& query) const {
+  if (result.point_labels.size() != aligned_view_.size()) {
+    throw std::invalid_argument(
+        "findPlacements needs the last extraction's result with its point labels");
+  }
+  return hope::findPlacements(aligned_view_, result.planes, result.point_labels,
+                              result.local_origin, params_, query);
 }
 
 }  // namespace hope

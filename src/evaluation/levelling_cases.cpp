@@ -248,7 +248,9 @@ std::optional<Eigen::Vector3d> tiltSearchUp(const PointsView& cloud, const Param
   for (int degrees = 0; degrees <= 75; degrees += 15) {
     const double pitch = degrees * kDegree;
     const Orientation guess = Orientation::fromGravity(0, -std::cos(pitch), -std::sin(pitch));
-    const Result rough = extractor.extract(cloud, guess, ExtractOutputs{false});
+    ExtractOutputs planes_only;
+    planes_only.point_labels = false;
+    const Result rough = extractor.extract(cloud, guess, planes_only);
     const auto largest = std::max_element(
         rough.planes.begin(), rough.planes.end(),
         [](const HorizontalPlane& a, const HorizontalPlane& b) { return a.area < b.area; });

@@ -34,6 +34,7 @@ namespace {
 struct ExtractionResult {
   hope::Result result;
   py::array labels;
+  py::object object_labels = py::none();  // with objects=True: int32 per point, -1 for none
   // What up from the scene found (level=True), or nothing.
   std::optional<hope::UpEstimate> levelling;
 };
@@ -165,7 +166,7 @@ class PyExtractor {
   ExtractionResult extract(const py::array& points, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
                            const py::object& transform, const py::object& viewpoint, bool level,
-                           double level_bound) {
+                           double level_bound, bool objects, double object_max_height) {
     const bool given =
         !gravity.is_none() || !quaternion.is_none() || !pose.is_none() || !transform.is_none();
     // Levelled clouds are in the sensor's frame: the sensor at the origin unless told.
@@ -173,6 +174,10 @@ class PyExtractor {
     hope::LevellingParams levelling = hope::LevellingParams::forExtraction(extractor_.params());
     levelling.max_correction_deg = level_bound;
     if (level) hope::validate(levelling);  // ValueError naming level_bound's range
+    hope::ExtractOutputs outputs;
+    outputs.objects = objects;
+    outputs.object_params.max_height = object_max_height;
+    if (objects) hope::validate(outputs.object_params);  // ValueError naming the range
     py::array converted;
     const hope::PointsView view = pointsOf(points, converted);
     ExtractionResult out;
@@ -188,7 +193,13 @@ class PyExtractor {
         orientation = out.levelling->orientation;
         if (!viewpoint.is_none()) orientation = orientation.withViewpoint(viewpointOf(viewpoint));
       }
-      out.result = extractor_.extract(view, orientation);
+      out.result = extractor_.extract(view, orientation, outputs);
+      // place() asks the extractor about this call: it needs its planes and point labels.
+      if (objects) {
+        last_ = out.result;
+      } else {
+        last_.reset();
+      }
     }
     if (out.result.finite_points == 0) {
       throw py::value_error("points has no finite point (all " +
@@ -218,6 +229,50 @@ class PyExtractor {
       shape = {points.shape(0)};
     out.labels = ownedArray(std::move(out.result.point_labels), shape);
     out.result.point_labels.clear();
+    if (objects) {
+      out.object_labels = ownedArray(std::move(out.result.point_objects), shape);
+      out.result.point_objects.clear();
+    }
+    return out;
+  }
+
+  // Placements on the planes of the last extract(objects=True) call.
+  py::list place(double width, double depth, double clearance, const py::object& plane_id,
+                 std::size_t max_results) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!last_) {
+      throw py::value_error("place() needs a previous extract(..., objects=True) call");
+    }
+    hope::PlacementQuery query;
+    query.footprint = {width, depth, clearance};
+    query.max_results = max_results;
+    if (!plane_id.is_none()) {
+      const int id = plane_id.cast<int>();
+      query.plane_index = -2;
+      for (std::size_t p = 0; p < last_->planes.size(); ++p) {
+        if (last_->planes[p].id == id) query.plane_index = static_cast<int>(p);
+      }
+      if (query.plane_index < 0) {
+        throw py::value_error("plane_id " + std::to_string(id) +
+                              " is not a plane of the last call");
+      }
+    }
+    std::vector<hope::Placement> placements;
+    {
+      py::gil_scoped_release released;
+      placements = extractor_.findPlacements(*last_, query);
+    }
+    py::list out;
+    for (const hope::Placement& p : placements) {
+      py::dict d;
+      d["plane_id"] = p.plane_id;
+      d["x"] = p.centre.x();
+      d["y"] = p.centre.y();
+      d["z"] = p.centre.z();
+      d["yaw"] = p.yaw;
+      d["margin"] = p.margin;
+      out.append(d);
+    }
     return out;
   }
 
@@ -226,6 +281,7 @@ class PyExtractor {
  private:
   hope::Extractor extractor_;
   std::unique_ptr<hope::UpEstimator> estimator_;  // made on the first level=True
+  std::optional<hope::Result> last_;              // the last extract(objects=True) result
   std::mutex mutex_;
 };
 
@@ -252,6 +308,7 @@ py::dict planeDict(const hope::HorizontalPlane& p) {
   d["normal"] = py::make_tuple(p.normal.x(), p.normal.y(), p.normal.z());
   d["tilt"] = p.tilt;
   d["area"] = p.area;
+  d["free_area"] = p.free_area;
   d["num_points"] = p.num_points;
   d["num_voxels"] = p.num_voxels;
   d["num_parts"] = p.num_parts;
@@ -261,6 +318,23 @@ py::dict planeDict(const hope::HorizontalPlane& p) {
   d["split_from"] = p.split_from;
   d["hull"] = rows(p.hull);
   d["outline"] = outlineOf(p);
+  return d;
+}
+
+// Every field of hope_extract's JSON output for one object.
+py::dict objectDict(const hope::StandingObject& o) {
+  py::dict d;
+  d["index"] = o.index;
+  d["plane_id"] = o.plane_id;
+  d["num_points"] = o.num_points;
+  d["centroid"] = py::make_tuple(o.centroid.x(), o.centroid.y(), o.centroid.z());
+  py::dict box;
+  box["centre"] = py::make_tuple(o.box_centre.x(), o.box_centre.y(), o.box_centre.z());
+  box["yaw"] = o.yaw;
+  box["size"] = py::make_tuple(o.box_size.x(), o.box_size.y(), o.box_size.z());
+  d["box"] = box;
+  d["height_above_plane"] = o.height;
+  d["footprint"] = rows(o.footprint);
   return d;
 }
 
@@ -402,6 +476,8 @@ PYBIND11_MODULE(_hope, m) {
       .def_readonly("normal", &hope::HorizontalPlane::normal)
       .def_readonly("tilt", &hope::HorizontalPlane::tilt, "radians from the z axis")
       .def_readonly("area", &hope::HorizontalPlane::area, "m² at grid resolution")
+      .def_readonly("free_area", &hope::HorizontalPlane::free_area,
+                    "m² observed with nothing standing on it (objects=True), else 0")
       .def_readonly("num_voxels", &hope::HorizontalPlane::num_voxels)
       .def_readonly("num_points", &hope::HorizontalPlane::num_points)
       .def_readonly("num_parts", &hope::HorizontalPlane::num_parts)
@@ -429,6 +505,16 @@ PYBIND11_MODULE(_hope, m) {
           })
       .def_readonly("labels", &ExtractionResult::labels,
                     "int32 per point (N or H x W): index into planes, -1 for none")
+      .def_readonly("object_labels", &ExtractionResult::object_labels,
+                    "with objects=True, int32 per point: index into objects, -1 for none")
+      .def_property_readonly(
+          "objects",
+          [](const ExtractionResult& r) {
+            py::list objects;
+            for (const auto& o : r.result.objects) objects.append(objectDict(o));
+            return objects;
+          },
+          "with objects=True: what stands on each plane (dicts as in hope_extract's JSON)")
       .def_property_readonly("stats", [](const ExtractionResult& r) { return statsOf(r.result); })
       .def_property_readonly("timings_ms",
                              [](const ExtractionResult& r) { return timingsOf(r.result); })
@@ -451,6 +537,9 @@ PYBIND11_MODULE(_hope, m) {
             py::list planes;
             for (const auto& p : r.result.planes) planes.append(planeDict(p));
             d["planes"] = planes;
+            py::list objects;
+            for (const auto& o : r.result.objects) objects.append(objectDict(o));
+            d["objects"] = objects;
             d["sensor_to_reference"] = Eigen::Matrix4d(r.result.sensor_to_reference.matrix());
             d["up_in_sensor"] = upInSensorOf(r);
             if (r.levelling) d["levelling"] = levellingOf(r);
@@ -483,12 +572,22 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("transform") = py::none(), py::arg("viewpoint") = py::none(),
            py::arg("level") = false,
            py::arg("level_bound") = hope::LevellingParams().max_correction_deg,
+           py::arg("objects") = false,
+           py::arg("object_max_height") = hope::ObjectParams().max_height,
            "points: N x 3 or H x W x 3 float32/float64 in the sensor frame. Orientation: at "
            "most one of gravity (accelerometer, 3), quaternion (x y z w), pose (tx ty tz qx qy "
            "qz qw) or transform (4 x 4); none = already z-up (with a warning when the cloud does "
            "not look it). level=True: up from the scene, estimated when no orientation is given "
            "(hope.LevellingError when nothing level is in view), else the given one corrected "
-           "by at most level_bound degrees. viewpoint: the sensor's position.")
+           "by at most level_bound degrees. viewpoint: the sensor's position. objects=True: "
+           "also what stands on each plane (result.objects, result.object_labels, each "
+           "plane's free_area), points up to object_max_height above it.")
+      .def("place", &PyExtractor::place, py::arg("width"), py::arg("depth"),
+           py::arg("clearance") = hope::Footprint().clearance, py::arg("plane_id") = py::none(),
+           py::arg("max_results") = 5,
+           "Where a width x depth footprint fits on the planes of the last "
+           "extract(objects=True) call: dicts plane_id, x, y, z, yaw, margin (reference "
+           "frame), best first; only on observed surface clear of every object by clearance.")
       .def_property_readonly("r_xy", [](const PyExtractor& e) { return e.params().r_xy; })
       .def_property_readonly("r_z", [](const PyExtractor& e) { return e.params().r_z; });
 

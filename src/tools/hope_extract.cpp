@@ -122,6 +122,16 @@ hope::tools::CommandLine commandLine() {
       .value("--max-points", "N",
              "refuse files claiming more points (default 100000000), so a corrupt header cannot "
              "make hope allocate gigabytes");
+  cl.section("objects and placements",
+             "what stands on each plane seen from above, and where a new object fits; made "
+             "whenever --json, --labels, --overlay or --place is given")
+      .value("--place", "\"W D [CLEARANCE]\"",
+             "a footprint W x D m (clearance default 0.02 m): up to 5 poses where it rests on "
+             "observed surface clear of every object, best first, printed and in the JSON's "
+             "\"placements\"")
+      .value("--object-max-height", "M",
+             "points up to this far above a plane stand on it (default 0.5)")
+      .flag("--no-objects", "planes only: no objects, free areas or the labels' object field");
   cl.section("output",
              "each file is written under a temporary name and renamed when complete: a failed "
              "run leaves no partial file")
@@ -289,6 +299,39 @@ hope::Params parameters(const Options& o) {
   return params;
 }
 
+// --place "W D [CLEARANCE]", checked before any file is read.
+std::optional<hope::PlacementQuery> placementQuery(const Options& o) {
+  if (!o.values.count("--place")) return std::nullopt;
+  if (o.flag("--no-objects"))
+    throw std::invalid_argument("--place needs objects: drop --no-objects");
+  const std::string& text = o.values.at("--place");
+  std::istringstream words(text);
+  std::size_t count = 0;
+  for (std::string word; words >> word;) ++count;
+  if (count != 2 && count != 3) {
+    throw std::invalid_argument("--place: expected \"W D [CLEARANCE]\" in metres, got '" +
+                                hope::tools::printableExcerpt(text) + "'");
+  }
+  const std::vector<double> v = hope::tools::parseNumbers(text, count, "--place");
+  hope::PlacementQuery query;
+  query.footprint.width = v[0];
+  query.footprint.depth = v[1];
+  if (count == 3) query.footprint.clearance = v[2];
+  hope::validate(query.footprint);
+  return query;
+}
+
+void printPlacements(const hope::PlacementQuery& query,
+                     const std::vector<hope::Placement>& placements) {
+  std::printf("%zu placement(s) for %.3f x %.3f m, clearance %.3f m%s\n", placements.size(),
+              query.footprint.width, query.footprint.depth, query.footprint.clearance,
+              placements.empty() ? ": no observed free surface holds it" : ", best first:");
+  for (const hope::Placement& p : placements) {
+    std::printf("  plane %d: x %.3f y %.3f z %.3f yaw %.1f deg, margin %.3f m\n", p.plane_id,
+                p.centre.x(), p.centre.y(), p.centre.z(), p.yaw * 180.0 / M_PI, p.margin);
+  }
+}
+
 // A progress bar with frames per second, only when stderr is a terminal.
 class Progress {
  public:
@@ -314,8 +357,9 @@ class Progress {
 // The sequence's options checked against each other and the folder before any frame is read:
 // an option that cannot apply is an error, never silently ignored.
 hope::tools::SequenceOptions sequenceOptions(const Options& o) {
-  for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay"}) {
-    if (o.values.count(single)) {
+  for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay",
+                             "--place", "--object-max-height", "--no-objects"}) {
+    if (o.values.count(single) || o.flag(single)) {
       throw std::invalid_argument(std::string(single) +
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
     }
@@ -619,6 +663,7 @@ int run(const Options& o) {
 
   const hope::Params params = parameters(o);
   hope::Extractor extractor(params);  // validates before any file is read
+  const std::optional<hope::PlacementQuery> place = placementQuery(o);
   const hope::LevellingParams levelling = levellingParams(o, params);
   const int repeat = wholeNumber(o, "--repeat", 1, 1, 100000);
   const bool level = o.flag("--level");
@@ -662,12 +707,20 @@ int run(const Options& o) {
   // Per-point labels only for the outputs that show them: 4 bytes a point saved otherwise.
   hope::ExtractOutputs wanted;
   wanted.point_labels = outputs.count("--labels") || outputs.count("--overlay");
+  wanted.objects = !o.flag("--no-objects") && (!outputs.empty() || place);
+  wanted.object_params.max_height =
+      number(o, "--object-max-height", wanted.object_params.max_height);
+  hope::validate(wanted.object_params);
   hope::Result result = extractor.extract(input.view(), pose, wanted);
   const double cold_ms = result.timings.total_ms;
   std::vector<double> steady_ms;
   for (int k = 1; k < repeat; ++k) {
     result = extractor.extract(input.view(), pose, wanted);
     steady_ms.push_back(result.timings.total_ms);
+  }
+  std::vector<hope::Placement> placements;
+  if (place) {
+    placements = extractor.findPlacements(result, *place);
   }
   if (!level && !orientationGiven(o)) {
     // Nothing said which way is up: the cloud was taken as z-up. Say so when it does not look it.
@@ -679,6 +732,10 @@ int run(const Options& o) {
   for (const auto& warning : result.warnings)
     std::cerr << "hope_extract: warning: " << warning << "\n";
   if (!o.flag("--quiet")) hope::tools::printTable(std::cout, result);
+  if (!o.flag("--quiet") && wanted.objects) {
+    std::printf("%zu object(s) standing on the planes\n", result.objects.size());
+  }
+  if (!o.flag("--quiet") && place) printPlacements(*place, placements);
   if (!o.flag("--quiet") && !steady_ms.empty()) {
     std::nth_element(steady_ms.begin(), steady_ms.begin() + steady_ms.size() / 2, steady_ms.end());
     const double median = steady_ms[steady_ms.size() / 2];
@@ -690,7 +747,8 @@ int run(const Options& o) {
 
   if (outputs.count("--json")) {
     hope::tools::writeText(outputs.at("--json"), [&](std::ostream& out) {
-      hope::tools::writeJson(out, result, levelled ? &*levelled : nullptr);
+      hope::tools::writeJson(out, result, levelled ? &*levelled : nullptr,
+                             place ? &placements : nullptr);
     });
   }
   if (outputs.count("--labels")) {
@@ -699,7 +757,12 @@ int run(const Options& o) {
       const int index = result.point_labels[i];
       labels[i] = index < 0 ? 0u : static_cast<std::uint32_t>(result.planes[index].id + 1);
     }
-    hope::tools::writeLabels(outputs.at("--labels"), input, labels);
+    // 0 for no object (or none asked for), k for object k - 1, as the plane labels.
+    std::vector<std::int32_t> objects(labels.size(), 0);
+    for (std::size_t i = 0; i < result.point_objects.size(); ++i) {
+      objects[i] = result.point_objects[i] + 1;
+    }
+    hope::tools::writeLabels(outputs.at("--labels"), input, labels, objects);
   }
   if (outputs.count("--overlay")) {
     hope::tools::writeImage(outputs.at("--overlay"),

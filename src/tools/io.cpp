@@ -32,12 +32,12 @@ InputCloud fromImageCloud(const pcl::PointCloud<PointT>& image_cloud) {
   return input;
 }
 
-// A binary PCD header for `points` points of the fields x y z label.
+// A binary PCD header for `points` points of the fields x y z label object.
 std::string labelsPcdHeader(const InputCloud& cloud) {
   const PointsView shape = cloud.view();
   std::ostringstream header;
-  header << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z label\n"
-         << "SIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH " << shape.width << "\nHEIGHT "
+  header << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z label object\n"
+         << "SIZE 4 4 4 4 4\nTYPE F F F U I\nCOUNT 1 1 1 1 1\nWIDTH " << shape.width << "\nHEIGHT "
          << shape.height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size()
          << "\nDATA binary\n";
   return header.str();
@@ -121,12 +121,13 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
   return input;
 }
 
-// hope's own binary PCD writer (x y z label, 16 bytes a point, written a block at a time): the
+// hope's own binary PCD writer (x y z label object, 20 bytes a point, a block at a time): the
 // tools then need no PCL I/O library, whose load alone costs ~20 MB of memory.
 void writeLabels(const OutputFile& file, const InputCloud& cloud,
-                 const std::vector<std::uint32_t>& labels) {
-  if (labels.size() != cloud.size()) {
-    throw std::logic_error("writeLabels: one label per point is needed");
+                 const std::vector<std::uint32_t>& labels,
+                 const std::vector<std::int32_t>& objects) {
+  if (labels.size() != cloud.size() || objects.size() != cloud.size()) {
+    throw std::logic_error("writeLabels: one label and one object per point are needed");
   }
   errno = 0;
   std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
@@ -136,10 +137,11 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
   std::vector<std::uint8_t> block;
   for (std::size_t first = 0; first < cloud.size() && out; first += kBlockPoints) {
     const std::size_t count = std::min(kBlockPoints, cloud.size() - first);
-    block.resize(count * 16);
+    block.resize(count * 20);
     for (std::size_t k = 0; k < count; ++k) {
-      std::memcpy(&block[16 * k], cloud.points[first + k].data(), 12);
-      std::memcpy(&block[16 * k + 12], &labels[first + k], 4);
+      std::memcpy(&block[20 * k], cloud.points[first + k].data(), 12);
+      std::memcpy(&block[20 * k + 12], &labels[first + k], 4);
+      std::memcpy(&block[20 * k + 16], &objects[first + k], 4);
     }
     out.write(reinterpret_cast<const char*>(block.data()),
               static_cast<std::streamsize>(block.size()));

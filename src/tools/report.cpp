@@ -129,8 +129,9 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
       << number(p.bbox[3]) << "]"
       << ", \"centroid\": " << vec3(p.centroid) << ", \"normal\": " << vec3(p.normal)
       << ", \"tilt\": " << number(p.tilt) << ", \"area\": " << number(p.area)
-      << ", \"num_points\": " << p.num_points << ", \"num_voxels\": " << p.num_voxels
-      << ", \"num_parts\": " << p.num_parts << ", \"facing\": \"" << toString(p.facing) << "\""
+      << ", \"free_area\": " << number(p.free_area) << ", \"num_points\": " << p.num_points
+      << ", \"num_voxels\": " << p.num_voxels << ", \"num_parts\": " << p.num_parts
+      << ", \"facing\": \"" << toString(p.facing) << "\""
       << ", \"age\": " << p.age << ", \"last_seen\": " << number(p.last_seen, 17)
       << ", \"split_from\": " << p.split_from << ", \"hull\": [";
   for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
@@ -177,14 +178,46 @@ std::string levellingJson(const UpEstimate& e) {
   return text + ", \"ms\": " + number(e.time_ms) + "}";
 }
 
-void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling) {
+void writeObjectJson(std::ostream& out, const StandingObject& o) {
+  out << "{\"index\": " << o.index << ", \"plane_id\": " << o.plane_id
+      << ", \"num_points\": " << o.num_points << ", \"centroid\": " << vec3(o.centroid)
+      << ", \"box\": {\"centre\": " << vec3(o.box_centre) << ", \"yaw\": " << number(o.yaw)
+      << ", \"size\": " << vec3(o.box_size) << "}, \"height_above_plane\": " << number(o.height)
+      << ", \"footprint\": [";
+  for (std::size_t k = 0; k < o.footprint.size(); ++k)
+    out << (k ? ", " : "") << vec3(o.footprint[k]);
+  out << "]}";
+}
+
+void writePlacementJson(std::ostream& out, const Placement& p) {
+  out << "{\"plane_id\": " << p.plane_id << ", \"x\": " << number(p.centre.x(), 9)
+      << ", \"y\": " << number(p.centre.y(), 9) << ", \"z\": " << number(p.centre.z(), 9)
+      << ", \"yaw\": " << number(p.yaw) << ", \"margin\": " << number(p.margin) << "}";
+}
+
+void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling,
+               const std::vector<Placement>* placements) {
   out << "{\n  \"planes\": [";
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     out << (k ? "," : "") << "\n    ";
     writePlaneJson(out, result.planes[k]);
   }
+  out << "\n  ],\n  \"objects\": [";
+  for (std::size_t k = 0; k < result.objects.size(); ++k) {
+    out << (k ? "," : "") << "\n    ";
+    writeObjectJson(out, result.objects[k]);
+  }
+  out << (result.objects.empty() ? "]" : "\n  ]");
+  if (placements) {
+    out << ",\n  \"placements\": [";
+    for (std::size_t k = 0; k < placements->size(); ++k) {
+      out << (k ? "," : "") << "\n    ";
+      writePlacementJson(out, (*placements)[k]);
+    }
+    out << (placements->empty() ? "]" : "\n  ]");
+  }
   const StageTimings& t = result.timings;
-  out << "\n  ],\n  " << orientationJson(result.sensor_to_reference) << ",\n";
+  out << ",\n  " << orientationJson(result.sensor_to_reference) << ",\n";
   if (levelling) out << "  \"levelling\": " << levellingJson(*levelling) << ",\n";
   out << "  \"stats\": {\"input_points\": " << result.input_points
       << ", \"finite_points\": " << result.finite_points << ", \"voxels\": " << result.voxels
@@ -204,8 +237,8 @@ void writeJson(std::ostream& out, const Result& result, const UpEstimate* levell
       << ", \"clustering\": " << number(t.clustering_ms)
       << ", \"refinement\": " << number(t.refinement_ms)
       << ", \"description\": " << number(t.description_ms)
-      << ", \"merging\": " << number(t.merging_ms) << ", \"total\": " << number(t.total_ms)
-      << "}\n}\n";
+      << ", \"merging\": " << number(t.merging_ms) << ", \"objects\": " << number(t.objects_ms)
+      << ", \"total\": " << number(t.total_ms) << "}\n}\n";
 }
 
 }  // namespace tools

@@ -43,8 +43,8 @@ def read_truth(path):
     return surfaces
 
 
-def read_pcd_labels(path):
-    """The `label` field of a PCD written by hope_extract --labels (ascii or binary)."""
+def read_pcd_labels(path, field="label"):
+    """A field (`label` or `object`) of a PCD written by hope_extract --labels (ascii or binary)."""
     with open(path, "rb") as f:
         header = {}
         while True:
@@ -61,8 +61,8 @@ def read_pcd_labels(path):
     count = int(header["POINTS"][0])
     if header["DATA"][0] == "ascii":
         rows = np.loadtxt(body.decode("ascii").splitlines(), ndmin=2)
-        return rows[:, fields.index("label")].astype(np.int64)
-    return np.frombuffer(body, dtype=dtype, count=count)["label"].astype(np.int64)
+        return rows[:, fields.index(field)].astype(np.int64)
+    return np.frombuffer(body, dtype=dtype, count=count)[field].astype(np.int64)
 
 
 class DemoRoom(unittest.TestCase):
@@ -246,6 +246,84 @@ class DemoRoom(unittest.TestCase):
         planes, events = tracker.update(self.result.planes, 0.0)
         self.assertEqual(len(planes), len(self.truth))
         self.assertEqual(len(events), len(self.truth))
+
+
+def sheet(x0, y0, x1, y1, z, step=0.005):
+    x, y = np.meshgrid(np.arange(x0, x1 + 1e-9, step), np.arange(y0, y1 + 1e-9, step))
+    return np.stack([x.ravel(), y.ravel(), np.full(x.size, z)], 1)
+
+
+class ObjectsAndPlacements(unittest.TestCase):
+    """A 1 x 0.8 m table 0.7 m up with a 0.2 x 0.2 x 0.3 m box at (0.5, 0.3); the table under the
+    box unseen, as a camera above it would see it."""
+
+    @classmethod
+    def setUpClass(cls):
+        table = sheet(0, 0, 1.0, 0.8, 0.7)
+        table = table[~((np.abs(table[:, 0] - 0.5) <= 0.1) & (np.abs(table[:, 1] - 0.3) <= 0.1))]
+        top = sheet(0.4, 0.2, 0.6, 0.4, 1.0)
+        sides = []
+        for z in np.arange(0.705, 1.0, 0.005):
+            for t in np.arange(-0.1, 0.1 + 1e-9, 0.005):
+                sides += [(0.5 + t, 0.2, z), (0.5 + t, 0.4, z), (0.4, 0.3 + t, z), (0.6, 0.3 + t, z)]
+        cls.box_points = len(top) + len(sides)
+        cls.points = np.vstack([table, top, np.array(sides)]).astype(np.float32)
+        cls.extractor = hope.Extractor()
+        cls.result = cls.extractor.extract(cls.points, objects=True)
+
+    def test_the_box_is_one_object_on_the_table(self):
+        self.assertEqual(len(self.result.objects), 1)
+        box = self.result.objects[0]
+        table = min(self.result.planes, key=lambda p: abs(p.height - 0.7))
+        self.assertAlmostEqual(table.height, 0.7, places=3)
+        self.assertEqual(box["plane_id"], table.id)
+        self.assertAlmostEqual(box["height_above_plane"], 0.3, delta=0.01)
+        np.testing.assert_allclose(sorted(box["box"]["size"][:2]), [0.2, 0.2], atol=0.05)
+        np.testing.assert_allclose(box["box"]["centre"][:2], [0.5, 0.3], atol=0.01)
+        labels = self.result.object_labels
+        self.assertEqual(labels.shape, (len(self.points),))
+        self.assertEqual(int((labels == 0).sum()), box["num_points"])
+        self.assertTrue((labels[: len(self.points) - self.box_points] == -1).all())
+        self.assertGreater(table.free_area, 0.7)
+
+    def test_placements_keep_off_the_box_and_on_the_table(self):
+        placements = self.extractor.place(0.15, 0.1, clearance=0.03)
+        self.assertGreaterEqual(len(placements), 2)
+        for p in placements:
+            self.assertAlmostEqual(p["z"], 0.7, places=3)
+            c, s = np.cos(p["yaw"]), np.sin(p["yaw"])
+            for u in (-0.075, 0.075):
+                for v in (-0.05, 0.05):
+                    x, y = p["x"] + c * u - s * v, p["y"] + s * u + c * v
+                    self.assertTrue(0 <= x <= 1.0 and 0 <= y <= 0.8, (x, y))
+                    gap = np.hypot(max(0.4 - x, 0, x - 0.6), max(0.2 - y, 0, y - 0.4))
+                    self.assertGreaterEqual(gap, 0.025, (x, y))
+
+    def test_same_objects_as_the_command_line_tool(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            cloud = os.path.join(tmp, "scene.pcd")
+            with open(cloud, "wb") as f:
+                f.write(("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                         "COUNT 1 1 1\nWIDTH %d\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS %d\n"
+                         "DATA binary\n" % (len(self.points), len(self.points))).encode("ascii"))
+                f.write(self.points.tobytes())
+            labels, report = os.path.join(tmp, "l.pcd"), os.path.join(tmp, "r.json")
+            subprocess.run([os.environ["HOPE_EXTRACT_BIN"], "--input", cloud, "--labels", labels,
+                            "--json", report, "--quiet"], check=True, capture_output=True)
+            with open(report) as f:
+                cli = json.load(f)
+            np.testing.assert_array_equal(read_pcd_labels(labels, "object"),
+                                          self.result.object_labels.astype(np.int64) + 1)
+            self.assertEqual(len(cli["objects"]), len(self.result.objects))
+            self.assertEqual(set(cli["objects"][0]), set(self.result.objects[0]))
+
+    def test_bad_footprints_and_a_missing_extraction_are_value_errors(self):
+        for width, depth, clearance in ((0, 0.1, 0.02), (0.1, -1, 0.02), (float("nan"), 0.1, 0),
+                                        (0.1, 0.1, -1), (5, 5, 0)):
+            with self.assertRaises(ValueError):
+                self.extractor.place(width, depth, clearance=clearance)
+        with self.assertRaises(ValueError):
+            hope.Extractor().place(0.1, 0.1)
 
 
 class BadInput(unittest.TestCase):

@@ -28,10 +28,12 @@ InputCloud loadDepth(const std::string& depth_path, const std::string& rgb_path,
                      const PinholeIntrinsics& intrinsics, double depth_scale,
                      std::uint64_t max_points = kDefaultMaxPoints);
 
-// Writes x, y, z (as read) and one `label` per input point, same count, order and
-// width × height as the input, as binary PCD. Throws std::runtime_error when it cannot.
+// Writes x, y, z (as read), one `label` (uint32) and one `object` (int32) per input point, same
+// count, order and width × height as the input, as binary PCD. Throws std::runtime_error when
+// it cannot.
 void writeLabels(const OutputFile& file, const InputCloud& cloud,
-                 const std::vector<std::uint32_t>& labels);
+                 const std::vector<std::uint32_t>& labels,
+                 const std::vector<std::int32_t>& objects);
 
 // Writes an image in the format of the file's extension (.png, .jpg, …); throws
 // std::runtime_error when it cannot.

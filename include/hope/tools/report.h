@@ -3,8 +3,10 @@
 
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "hope/extractor.h"
+#include "hope/placement.h"
 #include "hope/up_estimation.h"
 
 namespace hope {
@@ -13,10 +15,14 @@ namespace tools {
 // A table: id, height, area, points, bbox; then counts and stage timings.
 void printTable(std::ostream& out, const Result& result);
 
-// {"planes": [{"id", "height", "bbox", "centroid", "normal", "area", "num_points", "hull",
-// …}], "sensor_to_reference": 4×4 row-major, "up_in_sensor": [x, y, z], "levelling": {…} (when
-// up was estimated or refined from the scene), "stats": {…}, "timings_ms": {…}}
-void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling = nullptr);
+// {"planes": [{"id", "height", "bbox", "centroid", "normal", "area", "free_area", "num_points",
+// "hull", …}], "objects": [{"index", "plane_id", "num_points", "centroid", "box": {"centre",
+// "yaw", "size"}, "height_above_plane", "footprint"}], "placements": [{"plane_id", "x", "y", "z",
+// "yaw", "margin"}] (when given), "sensor_to_reference": 4×4 row-major, "up_in_sensor": [x, y, z],
+// "levelling": {…} (when up was estimated or refined from the scene), "stats": {…},
+// "timings_ms": {…}}
+void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling = nullptr,
+               const std::vector<Placement>* placements = nullptr);
 
 // The orientation a result was extracted with, as JSON members (no braces):
 // "sensor_to_reference": [[…], […], […], […]], "up_in_sensor": [x, y, z].

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Objects and placements on the 13 labelled mOSD scenes of ../shared/data/mosd_dev, scored by
+# ../shared/tools/objects_score.py (per labelled part: weighted overlap, parts found at IoU >= 0.5,
+# under/over-segmentation, false objects; placements valid when they rest on labelled table
+# points clear of every labelled object point), then the stage's cost on test57 and on the TUM
+# frame (the JSON's timings_ms after --repeat 20: the steady state). Writes docs/objects_mosd.txt,
+# where the README's figures for objects and placements come from.
+# Usage: scripts/score_objects.sh
+set -euo pipefail
+export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+data=${HOPE_SHARED_DATA:-$root/../shared/data}
+scorer=$root/../shared/tools/objects_score.py
+if [ ! -f "$scorer" ] || [ ! -d "$data/mosd_dev" ]; then
+  echo "score_objects: needs $scorer and $data/mosd_dev" >&2
+  exit 1
+fi
+bash scripts/build.sh >/dev/null
+extract=$root/build/devel/lib/hope/hope_extract
+out=docs/objects_mosd.txt
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+{
+  echo "# python3 ../shared/tools/objects_score.py build/devel/lib/hope/hope_extract (footprint 0.10 x 0.10 m, clearance 0.02 m)"
+  python3 "$scorer" "$extract" --data "$data/mosd_dev"
+  echo
+  echo "# cost, ms (steady state of 20 calls): objects and free areas, against the whole extraction"
+  "$extract" --input "$data/mosd_dev/test57.pcd" --gravity "0 -0.8 -0.6" --json "$tmp/m.json" \
+    --repeat 20 --quiet
+  echo "mosd_dev/test57 (640x480): $(grep -o '"objects": [0-9.e-]*, "total": [0-9.e-]*' "$tmp/m.json")"
+  "$extract" --depth "$data/tum_fr1_desk/1305031459.274941.png" \
+    --pose "-0.2171 -0.0799 1.3959 -0.8445 -0.0451 0.0954 0.5251" --json "$tmp/t.json" --repeat 20 --quiet
+  echo "tum_fr1_desk (640x480): $(grep -o '"objects": [0-9.e-]*, "total": [0-9.e-]*' "$tmp/t.json")"
+  echo "$(nproc) cores; $(date -u +%Y-%m-%dT%H:%M:%SZ); commit $(git rev-parse --short HEAD)"
+} | tee "$out"

@@ -1,0 +1,340 @@
+// Objects standing on planes and placements, on scenes whose answer is known by construction:
+// a z-up table 0.7 m above a floor with boxes and a can on it, a shelf, a book, a hole.
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "helpers.h"
+#include "hope/placement.h"
+#include "hope/standing_objects.h"
+
+namespace hope {
+namespace test {
+
+namespace {
+
+constexpr double kSpacing = 0.005;  // 5 mm between samples, a Kinect at about 2.5 m
+constexpr double kTable = 0.7;
+
+void addPoint(LabeledCloud& scene, const V3& p, int label) {
+  scene.cloud.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                      static_cast<float>(p.z())));
+  scene.labels.push_back(label);
+}
+
+// An upright box standing at z = base: its top and four sides, turned by `yaw` about z.
+void addBox(LabeledCloud& scene, const V3& centre, double yaw, const V3& size, double base,
+            int label) {
+  const V3 u(std::cos(yaw), std::sin(yaw), 0), v(-std::sin(yaw), std::cos(yaw), 0);
+  const double a = size.x() / 2, b = size.y() / 2;
+  for (double s = -a; s <= a + 1e-9; s += kSpacing) {
+    for (double t = -b; t <= b + 1e-9; t += kSpacing) {
+      addPoint(scene, centre + s * u + t * v + V3(0, 0, base + size.z()), label);
+    }
+  }
+  for (double h = kSpacing; h < size.z(); h += kSpacing) {
+    for (double s = -a; s <= a + 1e-9; s += kSpacing) {
+      addPoint(scene, centre + s * u - b * v + V3(0, 0, base + h), label);
+      addPoint(scene, centre + s * u + b * v + V3(0, 0, base + h), label);
+    }
+    for (double t = -b; t <= b + 1e-9; t += kSpacing) {
+      addPoint(scene, centre - a * u + t * v + V3(0, 0, base + h), label);
+      addPoint(scene, centre + a * u + t * v + V3(0, 0, base + h), label);
+    }
+  }
+}
+
+// An upright cylinder (a can) standing at z = base.
+void addCan(LabeledCloud& scene, const V3& centre, double radius, double height, double base,
+            int label) {
+  const int around = static_cast<int>(2 * M_PI * radius / kSpacing);
+  for (double h = kSpacing; h <= height; h += kSpacing) {
+    for (int k = 0; k < around; ++k) {
+      // Each ring's points at staggered heights: a ring at one exact height would be a level
+      // circle of points, a "plane" no sensor sees on a can.
+      const double angle = 2 * M_PI * k / around, z = h - kSpacing * ((k % 3) / 3.0);
+      addPoint(scene, centre + V3(radius * std::cos(angle), radius * std::sin(angle), base + z),
+               label);
+    }
+  }
+  for (double r = 0; r < radius; r += kSpacing) {
+    const int ring = std::max(1, static_cast<int>(2 * M_PI * r / kSpacing));
+    for (int k = 0; k < ring; ++k) {
+      const double angle = 2 * M_PI * k / ring;
+      addPoint(scene, centre + V3(r * std::cos(angle), r * std::sin(angle), base + height), label);
+    }
+  }
+}
+
+// A level sheet [x0, x1] × [y0, y1] at z, without the points inside `holes` (xy boxes: where
+// an object stands, or what the sensor could not see).
+struct XyBox {
+  double x0, y0, x1, y1;
+  bool contains(double x, double y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+};
+void addSurface(LabeledCloud& scene, double x0, double y0, double x1, double y1, double z,
+                const std::vector<XyBox>& holes, int label) {
+  for (double x = x0; x <= x1 + 1e-9; x += kSpacing) {
+    for (double y = y0; y <= y1 + 1e-9; y += kSpacing) {
+      bool hidden = false;
+      for (const XyBox& h : holes) hidden = hidden || h.contains(x, y);
+      if (!hidden) addPoint(scene, V3(x, y, z), label);
+    }
+  }
+}
+
+// A turned box's xy extent, for the hole it leaves in the table under it.
+XyBox under(const V3& centre, double yaw, const V3& size) {
+  const double ex = (std::fabs(std::cos(yaw)) * size.x() + std::fabs(std::sin(yaw)) * size.y()) / 2;
+  const double ey = (std::fabs(std::sin(yaw)) * size.x() + std::fabs(std::cos(yaw)) * size.y()) / 2;
+  return {centre.x() - ex, centre.y() - ey, centre.x() + ex, centre.y() + ey};
+}
+
+struct Extracted {
+  Extractor extractor;
+  Result result;
+  explicit Extracted(const LabeledCloud& scene) {
+    ExtractOutputs outputs;
+    outputs.objects = true;
+    result = extractor.extract(scene.cloud, Orientation::identity(), outputs);
+  }
+  std::vector<Placement> place(const Footprint& footprint, int plane_index = -1) {
+    PlacementQuery query;
+    query.footprint = footprint;
+    query.plane_index = plane_index;
+    return extractor.findPlacements(result, query);
+  }
+};
+
+std::string objectsOf(const Result& result) {
+  std::ostringstream text;
+  for (const StandingObject& o : result.objects) {
+    text << "\n object " << o.index << " on plane " << o.plane_index << ": " << o.num_points
+         << " points, box at " << o.box_centre.transpose() << " size " << o.box_size.transpose();
+  }
+  return text.str();
+}
+
+// The object whose box centre is nearest to (x, y), or -1 when none is within 5 cm.
+int objectAt(const Result& result, double x, double y) {
+  int best = -1;
+  double best_distance = 0.05;
+  for (const StandingObject& o : result.objects) {
+    const double d = std::hypot(o.box_centre.x() - x, o.box_centre.y() - y);
+    if (d < best_distance) best = o.index, best_distance = d;
+  }
+  return best;
+}
+
+// Box sides are compared up to one voxel of the grid (r_xy = 5 cm) and yaws modulo 90°, since
+// a box's first side may be either of its two.
+double sideError(const StandingObject& o, const V3& size) {
+  const double straight =
+      std::max(std::fabs(o.box_size.x() - size.x()), std::fabs(o.box_size.y() - size.y()));
+  const double swapped =
+      std::max(std::fabs(o.box_size.x() - size.y()), std::fabs(o.box_size.y() - size.x()));
+  return std::min(straight, swapped);
+}
+
+double yawErrorDeg(double yaw, double expected) {
+  const double d = std::fmod(std::fabs(yaw - expected), M_PI / 2);
+  return std::min(d, M_PI / 2 - d) * 180 / M_PI;
+}
+
+}  // namespace
+
+TEST(StandingObjects, BoxesAndACanOnATableAreOneObjectEachWithTheirBoxes) {
+  LabeledCloud scene;
+  const V3 box_at(0.3, 0.3, 0), can_at(0.75, 0.55, 0), flat_at(0.7, 0.2, 0);
+  const V3 box(0.2, 0.1, 0.15), flat(0.12, 0.12, 0.05);
+  const double box_yaw = 30 * M_PI / 180;
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);  // floor, table's shadow
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable,
+             {under(box_at, box_yaw, box), {0.71, 0.51, 0.79, 0.59}, under(flat_at, 0, flat)}, 1);
+  addBox(scene, box_at, box_yaw, box, kTable, 2);
+  addCan(scene, can_at, 0.04, 0.12, kTable, 3);
+  addBox(scene, flat_at, 0, flat, kTable, 4);
+  Extracted e(scene);
+  const int table = planeNear(e.result, kTable, 0.01);
+  ASSERT_GE(table, 0) << describe(e.result);
+  ASSERT_EQ(e.result.objects.size(), 3u) << describe(e.result) << objectsOf(e.result);
+  const int b = objectAt(e.result, box_at.x(), box_at.y());
+  const int c = objectAt(e.result, can_at.x(), can_at.y());
+  const int f = objectAt(e.result, flat_at.x(), flat_at.y());
+  ASSERT_TRUE(b >= 0 && c >= 0 && f >= 0);
+  for (int o : {b, c, f}) {
+    EXPECT_EQ(e.result.objects[o].plane_index, table);
+    EXPECT_EQ(e.result.objects[o].plane_id, e.result.planes[table].id);
+  }
+  const StandingObject& boxed = e.result.objects[b];
+  EXPECT_LT(sideError(boxed, box), 0.05);
+  EXPECT_NEAR(boxed.height, box.z(), 0.01);
+  EXPECT_NEAR(boxed.box_size.z(), box.z(), 0.01);
+  EXPECT_NEAR(boxed.box_centre.z(), kTable + box.z() / 2, 0.01);
+  EXPECT_LT(yawErrorDeg(boxed.yaw, box_yaw), 3.0) << boxed.yaw * 180 / M_PI;
+  EXPECT_LT(sideError(e.result.objects[c], V3(0.08, 0.08, 0)), 0.05);
+  EXPECT_NEAR(e.result.objects[c].height, 0.12, 0.01);
+  EXPECT_NEAR(e.result.objects[f].height, flat.z(), 0.01);
+  // Every point of every object is labelled with it, and no point of the table or the floor.
+  std::vector<std::size_t> labelled(3, 0);
+  ASSERT_EQ(e.result.point_objects.size(), scene.cloud.size());
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i) {
+    const int o = e.result.point_objects[i];
+    if (scene.labels[i] <= 1) {
+      EXPECT_EQ(o, -1) << "a point of the table or floor in object " << o;
+      continue;
+    }
+    const int expected = scene.labels[i] == 2 ? b : scene.labels[i] == 3 ? c : f;
+    labelled[scene.labels[i] - 2] += o == expected ? 1 : 0;
+  }
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(labelled[k], e.result.objects[k == 0 ? b : k == 1 ? c : f].num_points);
+  }
+  // The table's free area: its observed cells, less nothing (objects stand in its holes).
+  EXPECT_GT(e.result.planes[table].free_area, 0.7);
+  EXPECT_LT(e.result.planes[table].free_area, 0.8);
+}
+
+TEST(StandingObjects, ABoxOnAShelfAndACupOnABookBelongToTheirOwnSurfaces) {
+  LabeledCloud scene;
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);
+  // The book (its top is a plane of its own) leaves a hole in the table; the cup one in it.
+  const V3 book_at(0.3, 0.4, 0), book(0.3, 0.25, 0.05);
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {under(book_at, 0, book)}, 1);
+  addBox(scene, book_at, 0, book, kTable, 2);  // its sides; its top becomes a plane
+  addCan(scene, book_at, 0.035, 0.09, kTable + book.z(), 3);
+  // A shelf board 0.4 m above the table, beside it, with a box on it.
+  const double shelf = 1.1;
+  const V3 shelf_box_at(1.6, 0.4, 0), shelf_box(0.1, 0.1, 0.2);
+  addSurface(scene, 1.3, 0.1, 1.9, 0.7, shelf, {under(shelf_box_at, 0, shelf_box)}, 4);
+  addBox(scene, shelf_box_at, 0, shelf_box, shelf, 5);
+  Extracted e(scene);
+  const int book_top = planeNear(e.result, kTable + book.z(), 0.01);
+  const int board = planeNear(e.result, shelf, 0.01);
+  ASSERT_GE(book_top, 0) << describe(e.result) << objectsOf(e.result);
+  ASSERT_GE(board, 0) << describe(e.result);
+  // Book and cup share a centre: each is told by the surface it stands on.
+  std::vector<int> on_book, on_table;
+  const int table = planeNear(e.result, kTable, 0.01);
+  for (const StandingObject& o : e.result.objects) {
+    if (o.plane_index == book_top) on_book.push_back(o.index);
+    if (o.plane_index == table) on_table.push_back(o.index);
+  }
+  ASSERT_EQ(on_book.size(), 1u) << objectsOf(e.result);
+  ASSERT_EQ(on_table.size(), 1u) << objectsOf(e.result);
+  const StandingObject& cup = e.result.objects[on_book[0]];
+  EXPECT_NEAR(cup.box_centre.x(), book_at.x(), 0.01);
+  EXPECT_NEAR(cup.box_centre.y(), book_at.y(), 0.01);
+  EXPECT_NEAR(cup.height, 0.09, 0.01);
+  // The book is an object on the table, its top (a plane) included.
+  const StandingObject& booked = e.result.objects[on_table[0]];
+  EXPECT_NEAR(booked.height, book.z(), 0.01);
+  EXPECT_LT(sideError(booked, book), 0.05);
+  const int boxed = objectAt(e.result, shelf_box_at.x(), shelf_box_at.y());
+  ASSERT_GE(boxed, 0);
+  EXPECT_EQ(e.result.objects[boxed].plane_index, board);
+  EXPECT_NEAR(e.result.objects[boxed].height, 0.2, 0.01);
+  EXPECT_LT(sideError(e.result.objects[boxed], shelf_box), 0.05);
+}
+
+TEST(StandingObjects, AnObjectOverhangingTheEdgeIsFoundWhole) {
+  LabeledCloud scene;
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);
+  // A box 0.3 m long standing across the table's right edge, 10 cm of it in the air.
+  const V3 at(0.95, 0.4, 0), size(0.3, 0.1, 0.08);
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {under(at, 0, size)}, 1);
+  addBox(scene, at, 0, size, kTable, 2);
+  Extracted e(scene);
+  ASSERT_EQ(e.result.objects.size(), 1u) << describe(e.result);
+  const StandingObject& o = e.result.objects[0];
+  EXPECT_EQ(o.plane_index, planeNear(e.result, kTable, 0.01));
+  EXPECT_LT(sideError(o, size), 0.05);
+  EXPECT_NEAR(o.box_centre.x(), at.x(), 0.03);
+}
+
+// Placements rest on observed table only: not on the hole where a box stands, not on the strip
+// behind a tall box the sensor could not see, not within the clearance of the box.
+TEST(Placement, FootprintsRestOnObservedFreeSurfaceOnly) {
+  LabeledCloud scene;
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);
+  const V3 at(0.5, 0.3, 0), size(0.2, 0.2, 0.3);
+  const XyBox box = under(at, 0, size);
+  const XyBox unseen{0.4, 0.4, 0.6, 0.8};  // behind the box, to the table's far edge
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {box, unseen}, 1);
+  addBox(scene, at, 0, size, kTable, 2);
+  Extracted e(scene);
+  const int table = planeNear(e.result, kTable, 0.01);
+  ASSERT_GE(table, 0);
+  const Footprint footprint{0.15, 0.1, 0.03};
+  const std::vector<Placement> placements = e.place(footprint, table);
+  ASSERT_GE(placements.size(), 2u) << "the table has room left and right of the box";
+  for (const Placement& p : placements) {
+    EXPECT_EQ(p.plane_index, table);
+    EXPECT_NEAR(p.centre.z(), kTable, 0.005);
+    // Sample the footprint every 5 mm: every sample on the table, none in the hole or the
+    // unseen strip, and none within the clearance of the box.
+    const V3 u(std::cos(p.yaw), std::sin(p.yaw), 0), v(-std::sin(p.yaw), std::cos(p.yaw), 0);
+    for (double s = -footprint.width / 2; s <= footprint.width / 2 + 1e-9; s += 0.005) {
+      for (double t = -footprint.depth / 2; t <= footprint.depth / 2 + 1e-9; t += 0.005) {
+        const V3 q = p.centre + s * u + t * v;
+        ASSERT_TRUE(q.x() >= 0 && q.x() <= 1.0 && q.y() >= 0 && q.y() <= 0.8)
+            << "off the table at " << q.transpose();
+        ASSERT_FALSE(unseen.contains(q.x(), q.y())) << "on the unseen strip at " << q.transpose();
+        const double dx = std::max({box.x0 - q.x(), 0.0, q.x() - box.x1});
+        const double dy = std::max({box.y0 - q.y(), 0.0, q.y() - box.y1});
+        ASSERT_GE(std::hypot(dx, dy), footprint.clearance - 0.005)
+            << "within the clearance of the box at " << q.transpose();
+      }
+    }
+  }
+  // Best first.
+  for (std::size_t k = 1; k < placements.size(); ++k) {
+    EXPECT_LE(placements[k].margin, placements[k - 1].margin);
+  }
+}
+
+// A narrow strip of table along the diagonal holds a long footprint only turned along it.
+TEST(Placement, ALongFootprintIsTurnedToFitADiagonalStrip) {
+  LabeledCloud scene;
+  const double angle = 45 * M_PI / 180;
+  const V3 u(std::cos(angle), std::sin(angle), 0), v(-std::sin(angle), std::cos(angle), 0);
+  for (double s = -0.4; s <= 0.4; s += kSpacing) {
+    for (double t = -0.075; t <= 0.075; t += kSpacing) addPoint(scene, s * u + t * v, 1);
+  }
+  Extracted e(scene);
+  ASSERT_EQ(e.result.planes.size(), 1u);
+  const std::vector<Placement> placements = e.place({0.4, 0.08, 0.0});
+  ASSERT_FALSE(placements.empty());
+  for (const Placement& p : placements) {
+    const double off = std::fabs(std::remainder(p.yaw - angle, M_PI)) * 180 / M_PI;
+    EXPECT_LT(off, 8.0) << "yaw " << p.yaw * 180 / M_PI;
+  }
+}
+
+TEST(Placement, BadFootprintsAreRefusedWithTheReason) {
+  LabeledCloud scene;
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {}, 1);
+  Extracted e(scene);
+  auto refusal = [&](const Footprint& f, int plane = -1) {
+    try {
+      e.place(f, plane);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(refusal({0, 0.1, 0.02}).find("footprint width = 0 is out of range"), std::string::npos);
+  EXPECT_NE(refusal({0.1, -0.1, 0.02}).find("footprint depth = -0.1"), std::string::npos);
+  EXPECT_NE(refusal({nan, 0.1, 0.02}).find("footprint width = nan"), std::string::npos);
+  EXPECT_NE(refusal({0.1, 0.1, -1}).find("footprint clearance = -1"), std::string::npos);
+  EXPECT_NE(refusal({2.0, 1.5, 0.0}).find("larger than every plane"), std::string::npos);
+  EXPECT_NE(refusal({0.1, 0.1, 0.02}, 7).find("plane index 7 is not one of the 1 planes"),
+            std::string::npos);
+  EXPECT_EQ(refusal({0.1, 0.1, 0.02}), "accepted");
+}
+
+}  // namespace test
+}  // namespace hope

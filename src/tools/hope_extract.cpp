@@ -765,8 +765,10 @@ int run(const Options& o) {
     hope::tools::writeLabels(outputs.at("--labels"), input, labels, objects);
   }
   if (outputs.count("--overlay")) {
-    hope::tools::writeImage(outputs.at("--overlay"),
-                            hope::tools::renderOverlay(input, extractor.alignedPoints(), result));
+    hope::tools::writeImage(
+        outputs.at("--overlay"),
+        hope::tools::renderOverlay(input, extractor.alignedPoints(), result, placements,
+                                   place ? place->footprint : hope::Footprint()));
   }
   for (auto& output : outputs) output.second.commit();
   return 0;

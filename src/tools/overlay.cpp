@@ -48,7 +48,19 @@ cv::Vec3b tint(const cv::Vec3b& base, const cv::Vec3b& color) {
                    static_cast<uchar>((base[2] + 2 * color[2]) / 3));
 }
 
-cv::Mat imageOverlay(const InputCloud& cloud, const Result& result) {
+// Whether reference-frame point (x, y) lies on placement p's footprint.
+bool onFootprint(const Placement& p, const Footprint& f, double x, double y) {
+  const double dx = x - p.centre.x(), dy = y - p.centre.y();
+  const double along = dx * std::cos(p.yaw) + dy * std::sin(p.yaw);
+  const double across = -dx * std::sin(p.yaw) + dy * std::cos(p.yaw);
+  return std::fabs(along) <= f.width / 2 && std::fabs(across) <= f.depth / 2;
+}
+
+const cv::Scalar kObjectColour(0, 220, 255);    // amber boxes around objects
+const cv::Vec3b kPlacementColour(80, 255, 80);  // green footprints where a new object fits
+
+cv::Mat imageOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result,
+                     const std::vector<Placement>& placements, const Footprint& footprint) {
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
   float near = HUGE_VALF, far = 0;
@@ -81,11 +93,37 @@ cv::Mat imageOverlay(const InputCloud& cloud, const Result& result) {
         base = tint(base, planeColor(result.planes[label].id));
         pixel_sum[label] += Eigen::Vector2d(c, r);
         ++pixel_count[label];
+        // The placements' footprints, painted on the plane's own pixels they cover.
+        for (const Placement& p : placements) {
+          if (p.plane_index != label) continue;
+          const Eigen::Vector3f q = aligned[i];
+          if (onFootprint(p, footprint, q.x() + result.local_origin.x(),
+                          q.y() + result.local_origin.y())) {
+            base = tint(base, kPlacementColour);
+          }
+        }
       }
       image.at<cv::Vec3b>(r, c) = base;
     }
   }
+  // Each object's pixels boxed and numbered.
+  std::vector<cv::Rect> object_box(result.objects.size());
+  std::vector<bool> object_seen(result.objects.size(), false);
+  for (std::size_t i = 0; i < result.point_objects.size() && i < cloud.size(); ++i) {
+    const int o = result.point_objects[i];
+    if (o < 0) continue;
+    const cv::Rect pixel(static_cast<int>(i % w), static_cast<int>(i / w), 1, 1);
+    object_box[o] = object_seen[o] ? (object_box[o] | pixel) : pixel;
+    object_seen[o] = true;
+  }
   const double scale = std::max(0.4, w / 1100.0);
+  for (std::size_t o = 0; o < object_box.size(); ++o) {
+    if (!object_seen[o]) continue;
+    cv::rectangle(image, object_box[o], kObjectColour, 2, cv::LINE_AA);
+    drawLabel(image, "o" + std::to_string(o),
+              cv::Point(object_box[o].x + object_box[o].width / 2, object_box[o].y - 8),
+              scale * 0.8);
+  }
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     if (pixel_count[k] == 0) continue;
     const Eigen::Vector2d at = pixel_sum[k] / static_cast<double>(pixel_count[k]);
@@ -95,7 +133,8 @@ cv::Mat imageOverlay(const InputCloud& cloud, const Result& result) {
   return image;
 }
 
-cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result) {
+cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result,
+                       const std::vector<Placement>& placements, const Footprint& footprint) {
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(HUGE_VALF), hi = -lo;
   for (std::size_t i = 0; i < aligned.size(); ++i) {
     const Eigen::Vector3f p = aligned[i];
@@ -141,19 +180,38 @@ cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result) {
     drawLabel(image, planeText(plane),
               toPixel(plane.centroid.x() - o.x(), plane.centroid.y() - o.y()), 0.6);
   }
+  for (const StandingObject& object : result.objects) {
+    std::vector<cv::Point> polygon;
+    for (const auto& v : object.footprint) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
+    cv::polylines(image, polygon, true, kObjectColour, 2, cv::LINE_AA);
+  }
+  for (const Placement& p : placements) {
+    const double c = std::cos(p.yaw), s = std::sin(p.yaw);
+    std::vector<cv::Point> corners;
+    for (const auto& corner : {std::make_pair(-1, -1), std::make_pair(1, -1), std::make_pair(1, 1),
+                               std::make_pair(-1, 1)}) {
+      const double u = corner.first * footprint.width / 2, v = corner.second * footprint.depth / 2;
+      corners.push_back(
+          toPixel(p.centre.x() + c * u - s * v - o.x(), p.centre.y() + s * u + c * v - o.y()));
+    }
+    cv::fillConvexPoly(image, corners,
+                       cv::Scalar(kPlacementColour[0], kPlacementColour[1], kPlacementColour[2]),
+                       cv::LINE_AA);
+  }
   return image;
 }
 
 }  // namespace
 
-cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result) {
+cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result,
+                      const std::vector<Placement>& placements, const Footprint& footprint) {
   // A camera's image is at most a few times wider than high; a spinning LiDAR's rings x azimuth
   // layout (16-128 rows, 1000-4000 columns) reads better from above.
   const bool image_like = cloud.height > 1 && cloud.width <= 4 * cloud.height;
   if (image_like && std::uint64_t{cloud.width} * cloud.height == cloud.size()) {
-    return imageOverlay(cloud, result);
+    return imageOverlay(cloud, aligned, result, placements, footprint);
   }
-  return topDownOverlay(aligned, result);
+  return topDownOverlay(aligned, result, placements, footprint);
 }
 
 cv::Mat renderLabelsTopDown(const std::vector<Eigen::Vector3f>& points,

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "hope/extractor.h"
+#include "hope/placement.h"
 #include "hope/plane_colors.h"
 #include "hope/tools/cloud_file.h"
 
@@ -21,7 +22,10 @@ cv::Vec3b planeColor(int id);
 // (its colour, or a grey depth rendering) with every plane's pixels tinted by its id and
 // "id: height" written on it. Otherwise (unorganized, or a LiDAR's rings x azimuth): a
 // top-down view of the aligned points, planes tinted, outlines drawn and labelled.
-cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result);
+// Objects (Result::objects) are boxed in amber, and `placements` of `footprint` painted green.
+cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result,
+                      const std::vector<Placement>& placements = {},
+                      const Footprint& footprint = Footprint());
 
 // A top-down view of `points` over [x0, x1] × [y0, y1] on a `size`-pixel square, each point
 // coloured by its label (VOC colour label + 1; label -1 grey, shaded by height).

@@ -24,9 +24,10 @@ void validate(const Footprint& footprint) {
 
 namespace {
 
-// Largest side of a plane's placement grid, in cells: a 40 m floor at 1 cm. A larger plane
-// is rasterized with coarser cells, so memory stays bounded.
-constexpr int kMaxGridSide = 4000;
+// Largest side of a plane's placement grid, in cells: a 20 m floor at 1 cm. A larger plane
+// is rasterized with coarser cells, so memory stays bounded (the turned copies of a grid are
+// 1.4 times its side: 32 MB of distances at most).
+constexpr int kMaxGridSide = 2000;
 
 // One plane's surface as a placement sees it, on square cells in the plane's local xy.
 struct SurfaceGrid {

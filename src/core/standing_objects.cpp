@@ -31,8 +31,14 @@ namespace {
 // edge, the mixed pixels at its foot), as a mask over the plane's bounding box.
 class SupportArea {
  public:
+  // Cells along the longer side at most: a kilometre of merged map at r_xy is coarsened rather
+  // than given a mask of 400 MB.
+  static constexpr double kMaxSide = 4000;
+
   SupportArea(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin, double cell)
-      : cell_(cell) {
+      : cell_(std::max(
+            cell,
+            std::max(plane.bbox[2] - plane.bbox[0], plane.bbox[3] - plane.bbox[1]) / kMaxSide)) {
     // One cell of border on each side, so that the flood from the border reaches around.
     x0_ = static_cast<long>(std::floor((plane.bbox[0] - local_origin.x()) / cell)) - 2;
     y0_ = static_cast<long>(std::floor((plane.bbox[1] - local_origin.y()) / cell)) - 2;
@@ -120,10 +126,12 @@ bool cellKey(const Eigen::Vector3f& p, double cell, int plane, std::uint64_t& ke
 }
 
 std::uint64_t neighbourKey(std::uint64_t key, int dx, int dy, int dz) {
-  const std::int64_t step = (static_cast<std::int64_t>(dx) << 44) +
-                            (static_cast<std::int64_t>(dy) << 24) +
-                            (static_cast<std::int64_t>(dz) << 8);
-  return static_cast<std::uint64_t>(static_cast<std::int64_t>(key) + step);
+  // Unsigned arithmetic, which wraps by definition (a negative step is its two's complement);
+  // a shifted negative int would be undefined.
+  const std::uint64_t step = static_cast<std::uint64_t>(dx) * (std::uint64_t{1} << 44) +
+                             static_cast<std::uint64_t>(dy) * (std::uint64_t{1} << 24) +
+                             static_cast<std::uint64_t>(dz) * (std::uint64_t{1} << 8);
+  return key + step;
 }
 
 struct UnionFind {

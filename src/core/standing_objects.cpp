@@ -254,8 +254,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         plane.num_points > 0 ? std::sqrt(plane.area / static_cast<double>(plane.num_points)) : 0.0;
     cell[s] = std::max(params.r_z / 4, 2 * spacing);
   }
-  // Each object point's cell, then the distinct cells in key order: a neighbour is found by
-  // binary search (no hash table: sorting 10^5 keys is cheaper than as many insertions).
+  // Each object point's cell, then the distinct cells in key order, where the neighbours are
+  // found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many insertions).
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, point)
   // Points over a plane's area seed its objects; points beside it at object height (the part
   // of a box that overhangs the edge) join an object only through the cells they touch.

@@ -15,6 +15,7 @@
 #include "hope/aligned_points.h"
 #include "hope/params.h"
 #include "hope/plane.h"
+#include "hope/standing_objects.h"
 
 namespace hope {
 
@@ -56,11 +57,13 @@ std::vector<Placement> findPlacements(const AlignedPoints& points,
                                       const Eigen::Vector3d& local_origin, const Params& params,
                                       const PlacementQuery& query);
 
-// Each plane's free area: its observed cells of r_z / 2 with nothing standing on them, m² (0
-// for a plane seen from below).
+// Each plane's free area: its observed cells of r_z / 2 that no object standing on it
+// (`standing`, from findStandingObjects on the same points) covers or touches, m²; 0 for a
+// plane seen from below. One pass over the points for all planes.
 std::vector<double> freeAreas(const AlignedPoints& points,
                               const std::vector<HorizontalPlane>& planes,
                               const std::vector<std::int32_t>& point_labels,
-                              const Eigen::Vector3d& local_origin, const Params& params);
+                              const StandingObjects& standing, const Eigen::Vector3d& local_origin,
+                              const Params& params);
 
 }  // namespace hope

@@ -159,11 +159,11 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
 void Extractor::describeWhatStands(Result& result, const ObjectParams& object_params) const {
   StandingObjects standing = findStandingObjects(aligned_view_, result.planes, result.point_labels,
                                                  result.local_origin, params_, object_params);
+  const std::vector<double> free = freeAreas(aligned_view_, result.planes, result.point_labels,
+                                             standing, result.local_origin, params_);
+  for (std::size_t p = 0; p < result.planes.size(); ++p) result.planes[p].free_area = free[p];
   result.objects = std::move(standing.objects);
   result.point_objects = std::move(standing.point_objects);
-  const std::vector<double> free =
-      freeAreas(aligned_view_, result.planes, result.point_labels, result.local_origin, params_);
-  for (std::size_t p = 0; p < result.planes.size(); ++p) result.planes[p].free_area = free[p];
 }
 
 std::vector<Placement> Extractor::findPlacements(const Result& result,

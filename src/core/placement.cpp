@@ -42,9 +42,10 @@ struct SurfaceGrid {
   }
 };
 
-SurfaceGrid rasterize(const AlignedPoints& points, const HorizontalPlane& plane, int plane_index,
-                      const std::vector<std::int32_t>& point_labels,
-                      const Eigen::Vector3d& local_origin, const Params& params, double clearance) {
+// The grid of `plane`: its bounding box on cells of r_z / 2 (coarser for a very large plane),
+// with a cell of border, both masks empty.
+SurfaceGrid emptyGrid(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin,
+                      const Params& params) {
   SurfaceGrid grid;
   const double span = std::max(plane.bbox[2] - plane.bbox[0], plane.bbox[3] - plane.bbox[1]);
   grid.cell = std::max(params.r_z / 2, span / (kMaxGridSide - 4));
@@ -53,6 +54,35 @@ SurfaceGrid rasterize(const AlignedPoints& points, const HorizontalPlane& plane,
   const int cols = static_cast<int>(std::ceil((plane.bbox[2] - plane.bbox[0]) / grid.cell)) + 3;
   const int rows = static_cast<int>(std::ceil((plane.bbox[3] - plane.bbox[1]) / grid.cell)) + 3;
   grid.observed = cv::Mat::zeros(rows, cols, CV_8U);
+  grid.blocked = cv::Mat::zeros(rows, cols, CV_8U);
+  return grid;
+}
+
+// The cell of a local point, or false when it is outside the grid (NaN compares false too).
+bool cellOf(const SurfaceGrid& grid, const Eigen::Vector3f& q, int& row, int& col) {
+  const double c = (q.x() - grid.x0) / grid.cell, r = (q.y() - grid.y0) / grid.cell;
+  if (!(c >= 0 && r >= 0 && c < grid.observed.cols && r < grid.observed.rows)) return false;
+  col = static_cast<int>(c);
+  row = static_cast<int>(r);
+  return true;
+}
+
+// Grows `standing` by the clearance, as a disc; a cell is blocked when any point within the
+// clearance of it stands there (plus half a cell for where in the cell the point lies).
+cv::Mat grownBy(const cv::Mat& standing, double clearance, double cell) {
+  const int radius = static_cast<int>(std::ceil(clearance / cell + 0.5));
+  cv::Mat grown;
+  const cv::Mat disc =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+  cv::dilate(standing, grown, disc);
+  return grown;
+}
+
+SurfaceGrid rasterize(const AlignedPoints& points, const HorizontalPlane& plane, int plane_index,
+                      const std::vector<std::int32_t>& point_labels,
+                      const Eigen::Vector3d& local_origin, const Params& params, double clearance) {
+  SurfaceGrid grid = emptyGrid(plane, local_origin, params);
+  const int cols = grid.observed.cols, rows = grid.observed.rows;
   cv::Mat standing = cv::Mat::zeros(rows, cols, CV_8U);
   const double base = plane.height - local_origin.z();
   // Anything above the surface that is not the surface blocks it: the objects standing there,
@@ -74,16 +104,7 @@ SurfaceGrid rasterize(const AlignedPoints& points, const HorizontalPlane& plane,
       standing.at<std::uint8_t>(r, c) = 255;
     }
   }
-  // The clearance as a disc; a cell is blocked when any point within the clearance of it
-  // stands there (plus half a cell for where in the cell the point lies).
-  const int radius = static_cast<int>(std::ceil(clearance / grid.cell + 0.5));
-  if (radius > 0) {
-    const cv::Mat disc =
-        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-    cv::dilate(standing, grid.blocked, disc);
-  } else {
-    grid.blocked = standing;
-  }
+  grid.blocked = grownBy(standing, clearance, grid.cell);
   return grid;
 }
 
@@ -239,13 +260,37 @@ std::vector<Placement> findPlacements(const AlignedPoints& points,
 std::vector<double> freeAreas(const AlignedPoints& points,
                               const std::vector<HorizontalPlane>& planes,
                               const std::vector<std::int32_t>& point_labels,
-                              const Eigen::Vector3d& local_origin, const Params& params) {
+                              const StandingObjects& standing, const Eigen::Vector3d& local_origin,
+                              const Params& params) {
+  if (point_labels.size() != points.size() || standing.point_objects.size() != points.size()) {
+    throw std::invalid_argument("freeAreas: one plane label and one object label per point");
+  }
+  // All planes in one pass over the points: a plane's own points are its observed cells, the
+  // points of the objects standing on it the cells taken.
+  std::vector<SurfaceGrid> grids(planes.size());
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    if (carries(planes[p])) grids[p] = emptyGrid(planes[p], local_origin, params);
+  }
+  int row = 0, col = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int p = point_labels[i], o = standing.point_objects[i];
+    if (p < 0 && o < 0) continue;
+    const Eigen::Vector3f q = points[i];
+    if (p >= 0 && !grids[p].observed.empty() && cellOf(grids[p], q, row, col)) {
+      grids[p].observed.at<std::uint8_t>(row, col) = 255;
+    }
+    if (o >= 0) {
+      SurfaceGrid& under = grids[standing.objects[o].plane_index];
+      if (!under.observed.empty() && cellOf(under, q, row, col)) {
+        under.blocked.at<std::uint8_t>(row, col) = 255;
+      }
+    }
+  }
   std::vector<double> areas(planes.size(), 0.0);
   for (std::size_t p = 0; p < planes.size(); ++p) {
-    if (!carries(planes[p])) continue;
-    const SurfaceGrid grid =
-        rasterize(points, planes[p], static_cast<int>(p), point_labels, local_origin, params, 0.0);
-    areas[p] = cv::countNonZero(grid.free()) * grid.cell * grid.cell;
+    if (grids[p].observed.empty()) continue;
+    grids[p].blocked = grownBy(grids[p].blocked, 0.0, grids[p].cell);
+    areas[p] = cv::countNonZero(grids[p].free()) * grids[p].cell * grids[p].cell;
   }
   return areas;
 }

@@ -134,6 +134,24 @@ std::uint64_t neighbourKey(std::uint64_t key, int dx, int dy, int dz) {
   return key + step;
 }
 
+// Sorts (key, point) entries by key, points in their order among equal keys (they come in
+// point order): the order std::sort of the pairs gives, by four passes of 16 bits.
+void sortByKey(std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries) {
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(entries.size());
+  std::vector<std::size_t> start(65537);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(start.begin(), start.end(), 0);
+    for (const auto& e : entries) ++start[((e.first >> shift) & 0xffff) + 1];
+    if (start[((entries.empty() ? 0 : entries.front().first >> shift) & 0xffff) + 1] ==
+        entries.size()) {
+      continue;  // one digit for all: this pass would change nothing
+    }
+    for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+    for (const auto& e : entries) sorted[start[(e.first >> shift) & 0xffff]++] = e;
+    entries.swap(sorted);
+  }
+}
+
 struct UnionFind {
   std::vector<std::uint32_t> parent;
   explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
@@ -288,7 +306,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       keyed.emplace_back(key, static_cast<std::uint32_t>(i));
     }
   }
-  std::sort(keyed.begin(), keyed.end());
+  sortByKey(keyed);
   std::vector<std::uint64_t> cell_keys;
   std::vector<std::uint32_t> point_cell(points.size(), std::numeric_limits<std::uint32_t>::max());
   for (const auto& entry : keyed) {

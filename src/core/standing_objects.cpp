@@ -233,10 +233,12 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   }
   for (SupportArea& area : areas) area.finish();
 
+  // Above the plane by more than half a vertical cell: the plane's own points (its noise, a
+  // sheet of paper) stay below that; below max_height.
+  const double margin = params.r_z / 2;
   // A plane that itself stands on a lower one (a box's top, a book, a chair's seat on the
   // floor) is also the top of an object there: its points are object points too, and it still
   // carries what stands on it.
-  const double margin_for_raised = params.r_z / 2;
   // A raised plane of fewer than 8 cells carries nothing: on a can or a bottle the voxel
   // centroids of each slab form a level ring, a "plane" inside the object, which would cut it
   // in two; a book or a box top that carries a cup is larger.
@@ -247,7 +249,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     const Eigen::Vector3d c = top.centroid - local_origin;
     for (std::size_t lower = s + 1; lower < supports.size(); ++lower) {
       const double above = top.height - planes[supports[lower]].height;
-      if (above <= margin_for_raised) continue;
+      if (above <= margin) continue;
       if (above > object_params.max_height) break;
       if (areas[lower].contains(static_cast<float>(c.x()), static_cast<float>(c.y()))) {
         raised[supports[s]] = 1;
@@ -257,9 +259,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     }
   }
 
-  // Above the plane by more than half a vertical cell: the plane's own points (its noise, a
-  // sheet of paper) stay below that; below max_height.
-  const double margin = params.r_z / 2;
   // Objects are joined where their points touch, on cells of r_z / 4 (5 mm: two Kinect samples
   // at 1.5 m, so objects a centimetre apart stay apart) or twice the spacing of the plane's own
   // samples where the cloud is sparser (farther away, a LiDAR), so that an object is not

@@ -526,8 +526,7 @@ int runSequence(const Options& o) {
     // one corrupt file must not lose the frames around it.
     auto skip = [&](const std::string& kind, const std::string& reason) {
       if (seq.strict) {
-        throw std::runtime_error(reason.find(file) != std::string::npos ? reason
-                                                                        : file + ": " + reason);
+        throw std::runtime_error(hope::tools::withFile(file, reason));
       }
       summary.skipFrame(kind, file, reason);
       if (jsonl.is_open()) {

@@ -25,12 +25,11 @@ std::string withNumbersBlanked(const std::string& text) {
   return kind;
 }
 
-// A reason that names its file already is shown as it is; otherwise the file goes first.
+}  // namespace
+
 std::string withFile(const std::string& file, const std::string& reason) {
   return reason.find(file) != std::string::npos ? reason : file + ": " + reason;
 }
-
-}  // namespace
 
 void RunSummary::add(std::vector<Tally>& tallies, const std::string& kind,
                      const std::string& first) {

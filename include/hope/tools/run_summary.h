@@ -10,6 +10,10 @@
 namespace hope {
 namespace tools {
 
+// A frame's error as said: a reason that names its file already as it is, otherwise the file
+// first.
+std::string withFile(const std::string& file, const std::string& reason);
+
 class RunSummary {
  public:
   // A frame not used. `kind` is how it is counted ("could not be read", "nothing level in

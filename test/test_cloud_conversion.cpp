@@ -116,8 +116,9 @@ TEST(CloudConversion, EmptyCloudIsValid) {
 }
 
 // The labeled cloud: the points in the reference frame (aligned + local origin), the colour of
-// each point's plane id (grey for none) and its label (id + 1, 0 for none), in input order.
-TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
+// each point's plane id (grey for none), its label (id + 1, 0 for none) and its object (object
+// index + 1, 0 for none), in input order.
+TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourLabelAndObject) {
   const std::vector<Eigen::Vector3f> aligned = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5f}};
   hope::Result result;
   result.local_origin = Eigen::Vector3d(1024, -512, 3);
@@ -125,16 +126,20 @@ TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
   result.planes[0].id = 7;  // ids as the tracker gives them, not the plane's index
   result.planes[1].id = 2;
   result.point_labels = {0, -1, 1, 0};
+  result.point_objects = {-1, 1, -1, 0};  // point 3 above plane 0 is object 0, point 1 object 1
   hope::PointsView view;
   view.count = aligned.size();
   view.width = 4;
   const sensor_msgs::PointCloud2 msg =
       hope_ros::labeledCloud(aligned, result, view, std_msgs::Header());
-  ASSERT_EQ(msg.point_step, 20u);
-  ASSERT_EQ(msg.data.size(), 4u * 20u);
+  ASSERT_EQ(msg.point_step, 24u);
+  ASSERT_EQ(msg.data.size(), 4u * 24u);
+  ASSERT_EQ(msg.fields.size(), 6u);
+  EXPECT_EQ(msg.fields[5].name, "object");
+  EXPECT_EQ(msg.fields[5].offset, 20u);
   auto read = [&](std::size_t i, std::size_t offset) {
     std::uint32_t v;
-    std::memcpy(&v, msg.data.data() + i * 20 + offset, 4);
+    std::memcpy(&v, msg.data.data() + i * 24 + offset, 4);
     return v;
   };
   auto rgbOf = [](int id) {
@@ -144,29 +149,35 @@ TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourAndLabel) {
   const std::uint32_t expected_rgb[4] = {rgbOf(7), (128u << 16) | (128u << 8) | 128u, rgbOf(2),
                                          rgbOf(7)};
   const std::uint32_t expected_label[4] = {8, 0, 3, 8};
+  const std::uint32_t expected_object[4] = {0, 2, 0, 1};
   for (std::size_t i = 0; i < 4; ++i) {
     float xyz[3];
-    std::memcpy(xyz, msg.data.data() + i * 20, 12);
+    std::memcpy(xyz, msg.data.data() + i * 24, 12);
     EXPECT_EQ(xyz[0], aligned[i].x() + 1024.f) << "point " << i;
     EXPECT_EQ(xyz[1], aligned[i].y() - 512.f) << "point " << i;
     EXPECT_EQ(xyz[2], aligned[i].z() + 3.f) << "point " << i;
     EXPECT_EQ(read(i, 12), expected_rgb[i]) << "point " << i;
     EXPECT_EQ(read(i, 16), expected_label[i]) << "point " << i;
+    EXPECT_EQ(read(i, 20), expected_object[i]) << "point " << i;
   }
   EXPECT_NE(rgbOf(7), rgbOf(2));  // the colours tell the planes apart
 
   // Labels for fewer points than the cloud has (none computed for the rest): those points are
   // on no plane, grey and label 0, and still carry their coordinates.
+  // Without objects (not asked for) every point's object is 0.
   result.point_labels = {1, 0};
+  result.point_objects.clear();
   const sensor_msgs::PointCloud2 partly =
       hope_ros::labeledCloud(aligned, result, view, std_msgs::Header());
-  ASSERT_EQ(partly.data.size(), 4u * 20u);
+  ASSERT_EQ(partly.data.size(), 4u * 24u);
   const std::uint32_t partly_label[4] = {3, 8, 0, 0};
   for (std::size_t i = 0; i < 4; ++i) {
     float xyz[3];
-    std::uint32_t label;
-    std::memcpy(xyz, partly.data.data() + i * 20, 12);
-    std::memcpy(&label, partly.data.data() + i * 20 + 16, 4);
+    std::uint32_t label, object;
+    std::memcpy(xyz, partly.data.data() + i * 24, 12);
+    std::memcpy(&label, partly.data.data() + i * 24 + 16, 4);
+    std::memcpy(&object, partly.data.data() + i * 24 + 20, 4);
+    EXPECT_EQ(object, 0u) << "point " << i;
     EXPECT_EQ(xyz[0], aligned[i].x() + 1024.f) << "point " << i;
     EXPECT_EQ(xyz[2], aligned[i].z() + 3.f) << "point " << i;
     EXPECT_EQ(label, partly_label[i]) << "point " << i;
@@ -197,7 +208,7 @@ TEST(CloudConversion, RefilledLabeledCloudEqualsAFreshOne) {
     reused.header.frame_id = "stale";
     hope_ros::fillLabeledCloud(aligned, result, view, header, reused);
     EXPECT_EQ(reused.data, fresh.data) << stale_bytes << " stale bytes";
-    EXPECT_EQ(reused.fields.size(), 5u);
+    EXPECT_EQ(reused.fields.size(), 6u);
     EXPECT_EQ(reused.width, 2u);
     EXPECT_EQ(reused.height, 2u);
     EXPECT_EQ(reused.row_step, fresh.row_step);

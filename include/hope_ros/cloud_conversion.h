@@ -2,6 +2,7 @@
 // and hope's results as messages.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,7 +31,10 @@ sensor_msgs::PointCloud2 cloudMessage(const pcl::PointCloud<pcl::PointXYZ>& clou
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);
 
 // Points in the reference frame with x y z (float32), rgb (float32, colour of the plane's id,
-// grey for none) and label (uint32: plane id + 1, 0 for none), same layout as the input.
+// grey for none), label (uint32: plane id + 1, 0 for none) and object (uint32: the index of
+// the object it belongs to + 1, 0 for none or when the result has no objects), same layout as
+// the input (width × height), kLabeledPointStep bytes a point.
+constexpr std::uint32_t kLabeledPointStep = 24;
 sensor_msgs::PointCloud2 labeledCloud(const hope::AlignedPoints& aligned,
                                       const hope::Result& result, const hope::PointsView& input,
                                       const std_msgs::Header& header);

@@ -6,9 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include <geometry_msgs/Point32.h>
-
 #include "hope/plane_colors.h"
+#include "message_geometry.h"
 
 namespace hope_ros {
 
@@ -18,32 +17,6 @@ const sensor_msgs::PointField* field(const sensor_msgs::PointCloud2& cloud, cons
   for (const auto& f : cloud.fields)
     if (f.name == name) return &f;
   return nullptr;
-}
-
-std_msgs::ColorRGBA colorOf(int id, float alpha) {
-  const hope::Rgb rgb = hope::planeColor(id);
-  std_msgs::ColorRGBA c;
-  c.r = rgb.r / 255.f;
-  c.g = rgb.g / 255.f;
-  c.b = rgb.b / 255.f;
-  c.a = alpha;
-  return c;
-}
-
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point q;
-  q.x = p.x();
-  q.y = p.y();
-  q.z = p.z();
-  return q;
-}
-
-geometry_msgs::Point32 point32(const Eigen::Vector3d& p) {
-  geometry_msgs::Point32 q;
-  q.x = static_cast<float>(p.x());
-  q.y = static_cast<float>(p.y());
-  q.z = static_cast<float>(p.z());
-  return q;
 }
 
 }  // namespace
@@ -168,16 +141,16 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
   out.fields.clear();
   out.width = input.width;
   out.height = input.height;
-  const char* names[5] = {"x", "y", "z", "rgb", "label"};
-  for (std::uint32_t k = 0; k < 5; ++k) {
+  const char* names[6] = {"x", "y", "z", "rgb", "label", "object"};
+  for (std::uint32_t k = 0; k < 6; ++k) {
     sensor_msgs::PointField f;
     f.name = names[k];
     f.offset = 4 * k;
-    f.datatype = k == 4 ? sensor_msgs::PointField::UINT32 : sensor_msgs::PointField::FLOAT32;
+    f.datatype = k >= 4 ? sensor_msgs::PointField::UINT32 : sensor_msgs::PointField::FLOAT32;
     f.count = 1;
     out.fields.push_back(f);
   }
-  out.point_step = 20;
+  out.point_step = kLabeledPointStep;
   out.row_step = out.point_step * out.width;
   out.is_dense = false;
   // Every byte is written below: a buffer of the right size is reused as it is.
@@ -199,6 +172,9 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
   const std::uint8_t* source = aligned.data;
   const std::size_t source_stride = aligned.stride;
   const std::int32_t* labels = result.point_labels.data();
+  // Objects only when they were asked for (ExtractOutputs::objects): 0 everywhere otherwise.
+  const std::size_t with_objects = std::min(aligned.size(), result.point_objects.size());
+  const std::int32_t* objects = result.point_objects.data();
   const std::array<std::uint32_t, 2>* table = rgb_and_label.data();
   std::uint8_t* target = out.data.data();
   const float ox = origin.x(), oy = origin.y(), oz = origin.z();
@@ -212,12 +188,14 @@ void fillLabeledCloud(const hope::AlignedPoints& aligned, const hope::Result& re
     std::memcpy(&y, point + 4, sizeof(y));
     std::memcpy(&z, point + 8, sizeof(z));
     x += ox, y += oy, z += oz;
-    std::uint8_t* record = target + 20 * i;
+    std::uint8_t* record = target + kLabeledPointStep * i;
     std::memcpy(record, &x, sizeof(x));
     std::memcpy(record + 4, &y, sizeof(y));
     std::memcpy(record + 8, &z, sizeof(z));
     const int index = i < labelled ? labels[i] : -1;
     std::memcpy(record + 12, table[static_cast<std::size_t>(index + 1)].data(), 8);
+    const std::uint32_t object = i < with_objects ? static_cast<std::uint32_t>(objects[i] + 1) : 0u;
+    std::memcpy(record + 20, &object, sizeof(object));
   }
 }
 

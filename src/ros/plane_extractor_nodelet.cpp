@@ -26,13 +26,16 @@
 #include <boost/thread/recursive_mutex.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "hope/FindPlacement.h"
 #include "hope/HopeConfig.h"
+#include "hope/ObjectArray.h"
 #include "hope/PlaneArray.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
 #include "hope/up_estimation.h"
 #include "hope_ros/cloud_conversion.h"
 #include "hope_ros/frame_gaps.h"
+#include "hope_ros/object_conversion.h"
 
 namespace hope_ros {
 
@@ -83,6 +86,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // Warns when another publisher puts our reference frame under another parent.
   void onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event);
   void reject(const std::string& problem);
+  // ~find_placement: searches the last frame processed; a refusal comes back with success
+  // false and the reason, never as a failed call (a client would see no reason then).
+  bool findPlacement(hope::FindPlacement::Request& request,
+                     hope::FindPlacement::Response& response);
   void reconfigure(hope::HopeConfig& config, uint32_t level);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -99,7 +106,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // How many frames a scene source may hold the last up when a frame shows nothing level.
   int level_hold_frames_ = 30;
 
-  ros::Publisher planes_pub_, cloud_pub_, markers_pub_;
+  ros::Publisher planes_pub_, cloud_pub_, markers_pub_, objects_pub_;
+  ros::ServiceServer placement_srv_;
   ros::Subscriber cloud_sub_;
   // tf: clouds wait in a bounded queue until their transform is there; the callback thread
   // never blocks in a lookup (a paused /clock would hold it forever).
@@ -131,6 +139,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::mutex pending_mutex_;
   hope::Params pending_params_;
   hope::TrackerOptions pending_tracker_;
+  bool pending_objects_ = true, pending_placements_ = true;
+  hope::ObjectParams pending_object_params_;
   bool pending_ = false;
 
   std::mutex processing_mutex_;  // one frame at a time
@@ -142,6 +152,16 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   hope::UpSmoother up_smoother_;
   int frames_since_level_ = 0;
   boost::shared_ptr<sensor_msgs::PointCloud2> labeled_cloud_;  // the last one published
+  // What stands on the planes (~objects, boxes in ~markers, the labeled cloud's object field)
+  // and ~find_placement, switched by dynamic_reconfigure like the extraction parameters.
+  bool objects_ = true, placements_ = true;
+  hope::ObjectParams object_params_;
+  // The last frame processed, for ~find_placement: its result (with point labels) and the cloud
+  // it came from, which the extractor's aligned points may still read (no copy is made when the
+  // orientation is the identity). Cleared when the extractor is replaced.
+  sensor_msgs::PointCloud2ConstPtr last_cloud_;
+  hope::Result last_result_;
+  std_msgs::Header last_header_;
 
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
@@ -276,7 +296,10 @@ void PlaneExtractorNodelet::onInit() {
     planes_pub_ = pnh.advertise<hope::PlaneArray>("planes", 10, changed, changed);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 3, changed, changed);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 10, changed, changed);
+    objects_pub_ = pnh.advertise<hope::ObjectArray>("objects", 10, changed, changed);
   }
+  placement_srv_ =
+      pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
   NODELET_INFO("hope: orientation from %s%s, reference frame '%s', %s", source_.c_str(),
                refine_ ? " refined by the scene" : "", reference_frame_.c_str(),
                lazy_ ? "lazy: subscribing to the cloud only while an output has a listener "
@@ -288,7 +311,8 @@ void PlaneExtractorNodelet::onInit() {
 void PlaneExtractorNodelet::connectionChanged() {
   std::lock_guard<std::mutex> lock(connection_mutex_);
   const bool wanted = !lazy_ || planes_pub_.getNumSubscribers() > 0 ||
-                      cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0;
+                      cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
+                      objects_pub_.getNumSubscribers() > 0;
   if (wanted == subscribed_) return;
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   if (wanted) {
@@ -579,6 +603,11 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
       if (pending_tracker_.mode != tracker_->options().mode) {
         tracker_ = std::make_unique<hope::PlaneTracker>(pending_tracker_);
       }
+      objects_ = pending_objects_;
+      placements_ = pending_placements_;
+      object_params_ = pending_object_params_;
+      last_cloud_.reset();  // the new extractor holds no frame to place on
+      last_result_ = hope::Result();
       pending_ = false;
     }
   }
@@ -605,10 +634,15 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     }
   }
   if (broadcast) broadcastReference(cloud->header, orientation);
-  // Per-point labels feed only the labeled cloud: left out while nobody listens to it.
+  // Per-point labels feed the labeled cloud and ~find_placement, objects the labeled cloud,
+  // ~objects and ~markers: each is left out while nothing needs it.
   const bool publish_cloud = cloud_pub_.getNumSubscribers() > 0;
+  const bool publish_markers = markers_pub_.getNumSubscribers() > 0;
+  const bool publish_objects = objects_ && objects_pub_.getNumSubscribers() > 0;
   hope::ExtractOutputs outputs;
-  outputs.point_labels = publish_cloud;
+  outputs.point_labels = publish_cloud || placements_;
+  outputs.objects = objects_ && (publish_objects || publish_markers || publish_cloud);
+  outputs.object_params = object_params_;
   hope::Result result;
   try {
     result = extractor_->extract(view, orientation, outputs);
@@ -620,6 +654,9 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   }
   for (const auto& w : result.warnings) NODELET_WARN_THROTTLE(30.0, "hope: %s", w.c_str());
   tracker_->update(result.planes, cloud->header.stamp.toSec());
+  // The objects were found under the frame's own plane ids; the tracker has just given the
+  // planes (in the same order) their persistent ones.
+  for (hope::StandingObject& o : result.objects) o.plane_id = result.planes[o.plane_index].id;
 
   std_msgs::Header header = cloud->header;
   header.frame_id = reference_frame;
@@ -635,11 +672,21 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     fillLabeledCloud(extractor_->alignedPoints(), result, view, header, *labeled_cloud_);
     cloud_pub_.publish(labeled_cloud_);
   }
-  if (markers_pub_.getNumSubscribers() > 0) {
-    markers_pub_.publish(
-        boost::make_shared<visualization_msgs::MarkerArray>(planeMarkers(result, header)));
+  if (publish_objects) {
+    objects_pub_.publish(boost::make_shared<hope::ObjectArray>(toMessage(result.objects, header)));
+  }
+  if (publish_markers) {
+    auto markers =
+        boost::make_shared<visualization_msgs::MarkerArray>(planeMarkers(result, header));
+    appendObjectMarkers(result.objects, header, *markers);
+    markers_pub_.publish(markers);
   }
   if (!view_frame_.empty()) broadcastView(result, header);
+  if (placements_) {
+    last_cloud_ = cloud;
+    last_result_ = std::move(result);
+    last_header_ = header;
+  }
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::lock_guard<std::mutex> stats_lock(stats_mutex_);
@@ -647,6 +694,41 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   last_ms_ = ms;
   sum_ms_ += ms;
   max_ms_ = std::max(max_ms_, ms);
+}
+
+bool PlaneExtractorNodelet::findPlacement(hope::FindPlacement::Request& request,
+                                          hope::FindPlacement::Response& response) {
+  std::lock_guard<std::mutex> lock(processing_mutex_);  // the extractor and the last frame
+  response.success = false;
+  if (!placements_) {
+    response.message = "placements are switched off (~placements false)";
+    return true;
+  }
+  if (!last_cloud_) {
+    response.message = std::string("no cloud processed yet") +
+                       (lazy_ && !subscribed_ ? " (lazy: hope subscribes to " + cloud_topic_ +
+                                                    " only while an output has a listener)"
+                                              : " since the start or the last reconfiguration");
+    return true;
+  }
+  response.header = last_header_;
+  hope::PlacementQuery query;
+  response.message = placementQuery(request, last_result_.planes, query);
+  if (!response.message.empty()) return true;
+  try {
+    for (const hope::Placement& p : extractor_->findPlacements(last_result_, query)) {
+      response.placements.push_back(toMessage(p));
+    }
+  } catch (const std::exception& e) {
+    response.message = e.what();
+    return true;
+  }
+  response.success = true;
+  response.message = response.placements.empty()
+                         ? "the footprint fits nowhere on the observed surface of " +
+                               std::string(query.plane_index < 0 ? "any plane" : "that plane")
+                         : "";
+  return true;
 }
 
 void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*level*/) {
@@ -674,6 +756,17 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
     NODELET_WARN("hope: keeping tracking mode %s: %s", hope::toString(pending_tracker_.mode),
                  e.what());
   }
+  hope::ObjectParams object_params;
+  object_params.max_height = config.object_max_height;
+  try {
+    hope::validate(object_params);
+    pending_object_params_ = object_params;
+  } catch (const std::exception& e) {
+    NODELET_WARN("hope: keeping object_max_height %g: %s", pending_object_params_.max_height,
+                 e.what());
+  }
+  pending_objects_ = config.objects;
+  pending_placements_ = config.placements;
   pending_ = true;
   const hope::Params& p = pending_params_;
   // What is in effect goes back into the config, so the parameter server and the reported
@@ -688,12 +781,15 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   config.bridge_scan_gaps = p.bridge_scan_gaps;
   config.threads = p.threads;
   config.tracking_mode = hope::toString(pending_tracker_.mode);
+  config.object_max_height = pending_object_params_.max_height;
   NODELET_INFO(
       "hope: parameters: r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, fragment "
-      "merge %s (gap <= %g m), scan-gap bridging %s, tracking %s, %d thread(s)",
+      "merge %s (gap <= %g m), scan-gap bridging %s, tracking %s, %d thread(s), objects %s "
+      "(up to %g m), placements %s",
       p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area, p.merge_fragments ? "on" : "off",
       p.max_merge_gap, p.bridge_scan_gaps ? "on" : "off", hope::toString(pending_tracker_.mode),
-      p.threads);
+      p.threads, pending_objects_ ? "on" : "off", pending_object_params_.max_height,
+      pending_placements_ ? "on" : "off");
 }
 
 void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
@@ -703,7 +799,8 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
                    rejected_ ? "no frame processed; last problem: " + last_problem_
                    : subscribed_
                        ? "waiting for clouds on " + cloud_topic_
-                       : "idle: lazy, and no one listens to planes, labeled_cloud or markers "
+                       : "idle: lazy, and no one listens to planes, labeled_cloud, markers or "
+                         "objects "
                          "(set lazy: false to process every cloud regardless)");
   } else if (rejected_since_update_ > 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN,

@@ -1,0 +1,299 @@
+// The rostest side of objects and placements: while the demo room bag replays with tf (heights
+// and positions in odom, the scene's own frame), checks hope's ~objects, the object boxes in
+// ~markers, the labeled cloud's object field and ~find_placement against the scene's ground
+// truth (hope::synthetic::demoRoom()), then switches both off through dynamic_reconfigure.
+// Parameters (private): hope_ns (/hope), timeout (60 s).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "hope/FindPlacement.h"
+#include "hope/ObjectArray.h"
+#include "hope/PlaneArray.h"
+
+namespace {
+
+// demoRoom()'s table top: z 0.75, x 1.3–2.2, y −0.9–0.1 (world = odom).
+constexpr double kTableZ = 0.75, kTableX0 = 1.3, kTableX1 = 2.2, kTableY0 = -0.9, kTableY1 = 0.1;
+
+// What stands on the table in demoRoom(), by the primitives that make it.
+struct Expected {
+  const char* name;
+  double x, y;  // centre of its footprint
+  double height;
+  // Distance in xy from `p` to its footprint (0 inside).
+  double (*distance)(double px, double py);
+};
+
+double bookDistance(double px, double py) {  // box 1.7–1.95 × −0.45–−0.25, 5 cm high
+  const double dx = std::max({1.7 - px, 0.0, px - 1.95}),
+               dy = std::max({-0.45 - py, 0.0, py + 0.25});
+  return std::hypot(dx, dy);
+}
+double coneDistance(double px, double py) {  // apex (1.5, −0.2, 1.0), base radius 0.1, 0.25 high
+  return std::max(0.0, std::hypot(px - 1.5, py + 0.2) - 0.1);
+}
+double tubeDistance(double px, double py) {  // tube r 0.04 from (1.95, −0.8) to (2.15, −0.55)
+  const double ax = 1.95, ay = -0.8, bx = 2.15, by = -0.55;
+  const double t = std::clamp(((px - ax) * (bx - ax) + (py - ay) * (by - ay)) /
+                                  ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)),
+                              0.0, 1.0);
+  return std::max(0.0, std::hypot(px - (ax + t * (bx - ax)), py - (ay + t * (by - ay))) - 0.04);
+}
+
+const Expected kOnTheTable[] = {{"book", 1.825, -0.35, 0.05, bookDistance},
+                                {"cone", 1.5, -0.2, 0.25, coneDistance},
+                                {"lying tube", 2.05, -0.675, 0.08, tubeDistance}};
+
+struct Received {
+  std::mutex mutex;
+  std::vector<hope::ObjectArray> objects;
+  std::vector<hope::PlaneArray> planes;
+  // Per stamp: the number of points of each object value (index + 1) in the labeled cloud, and
+  // the object boxes among the markers.
+  std::map<double, std::map<std::uint32_t, std::size_t>> cloud_counts;
+  std::map<double, std::size_t> marker_boxes;
+  bool cloud_has_object_field = true;
+};
+Received received;
+
+template <class Done>
+bool waitFor(Done done, double timeout) {
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < until) {
+    {
+      std::lock_guard<std::mutex> lock(received.mutex);
+      if (done()) return true;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  return false;
+}
+
+void onCloud(const sensor_msgs::PointCloud2::ConstPtr& m) {
+  int offset = -1;
+  for (const auto& f : m->fields) {
+    if (f.name == "object" && f.datatype == sensor_msgs::PointField::UINT32) offset = f.offset;
+  }
+  std::lock_guard<std::mutex> lock(received.mutex);
+  if (offset < 0) {
+    received.cloud_has_object_field = false;
+    return;
+  }
+  auto& counts = received.cloud_counts[m->header.stamp.toSec()];
+  counts.clear();
+  for (std::size_t i = 0; i < std::size_t(m->width) * m->height; ++i) {
+    std::uint32_t object;
+    std::memcpy(&object, &m->data[i * m->point_step + offset], sizeof(object));
+    ++counts[object];
+  }
+}
+
+void onMarkers(const visualization_msgs::MarkerArray::ConstPtr& m) {
+  if (m->markers.size() < 2) return;
+  std::size_t boxes = 0;
+  for (const auto& marker : m->markers) {
+    boxes += marker.ns == "objects" && marker.type == visualization_msgs::Marker::CUBE ? 1 : 0;
+  }
+  std::lock_guard<std::mutex> lock(received.mutex);
+  received.marker_boxes[m->markers.back().header.stamp.toSec()] = boxes;
+}
+
+// The table's id in the latest PlaneArray, or -1.
+int tableId() {
+  std::lock_guard<std::mutex> lock(received.mutex);
+  if (received.planes.empty()) return -1;
+  for (const auto& p : received.planes.back().planes) {
+    if (std::abs(p.height - kTableZ) < 0.02 && p.x_min < kTableX0 + 0.2 && p.x_max > kTableX1 - 0.2)
+      return p.id;
+  }
+  return -1;
+}
+
+hope::FindPlacement::Response place(const std::string& hope_ns, double width, double depth,
+                                    double clearance, int plane_id) {
+  hope::FindPlacement srv;
+  srv.request.width = width;
+  srv.request.depth = depth;
+  srv.request.clearance = clearance;
+  srv.request.plane_id = plane_id;
+  EXPECT_TRUE(ros::service::call(hope_ns + "/find_placement", srv)) << "the call itself failed";
+  return srv.response;
+}
+
+void reconfigure(const std::string& hope_ns, bool objects, bool placements) {
+  dynamic_reconfigure::Reconfigure srv;
+  for (const auto& [name, value] : std::vector<std::pair<std::string, bool>>{
+           {"objects", objects}, {"placements", placements}}) {
+    dynamic_reconfigure::BoolParameter p;
+    p.name = name;
+    p.value = value;
+    srv.request.config.bools.push_back(p);
+  }
+  ASSERT_TRUE(ros::service::call(hope_ns + "/set_parameters", srv)) << "reconfigure failed";
+}
+
+TEST(HopeObjects, ObjectsAndPlacementsMatchTheScene) {
+  ros::NodeHandle nh, pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  ros::Subscriber objects_sub =
+      nh.subscribe<hope::ObjectArray>(hope_ns + "/objects", 10,
+                                      boost::function<void(const hope::ObjectArray::ConstPtr&)>(
+                                          [](const hope::ObjectArray::ConstPtr& m) {
+                                            std::lock_guard<std::mutex> lock(received.mutex);
+                                            received.objects.push_back(*m);
+                                          }));
+  ros::Subscriber planes_sub =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(received.mutex);
+                                           received.planes.push_back(*m);
+                                         }));
+  ros::Subscriber cloud_sub = nh.subscribe(hope_ns + "/labeled_cloud", 2, onCloud);
+  ros::Subscriber markers_sub = nh.subscribe(hope_ns + "/markers", 2, onMarkers);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+
+  // Eight frames: the first may have started before every subscription was in place.
+  ASSERT_TRUE(waitFor([] { return received.objects.size() >= 8; }, timeout))
+      << "fewer than 8 ObjectArrays on " << hope_ns << "/objects";
+  {
+    std::lock_guard<std::mutex> lock(received.mutex);
+    for (std::size_t f = 2; f < received.objects.size(); ++f) {
+      const hope::ObjectArray& frame = received.objects[f];
+      EXPECT_EQ(frame.header.frame_id, "odom");
+      for (const Expected& e : kOnTheTable) {
+        int matches = 0;
+        for (const hope::Object& o : frame.objects) {
+          const double base = o.center.position.z - 0.5 * o.size.z;
+          if (std::abs(base - kTableZ) > 0.02) continue;  // not standing on the table
+          if (std::hypot(o.center.position.x - e.x, o.center.position.y - e.y) > 0.05) continue;
+          ++matches;
+          EXPECT_NEAR(o.size.z, e.height, 0.015) << e.name << " at " << frame.header.stamp;
+          EXPECT_NEAR(o.height, o.size.z, 1e-6) << e.name;
+          EXPECT_GE(o.footprint.points.size(), 3u) << e.name;
+        }
+        EXPECT_EQ(matches, 1) << e.name << " found " << matches << " times at "
+                              << frame.header.stamp;
+      }
+      // Everything standing on the table stands over it (within the 15 cm an object may
+      // overhang), and is one of the three.
+      for (const hope::Object& o : frame.objects) {
+        const double base = o.center.position.z - 0.5 * o.size.z;
+        if (std::abs(base - kTableZ) > 0.02) continue;
+        const double x = o.center.position.x, y = o.center.position.y;
+        EXPECT_TRUE(x > kTableX0 - 0.15 && x < kTableX1 + 0.15 && y > kTableY0 - 0.15 &&
+                    y < kTableY1 + 0.15)
+            << "object " << o.index << " at (" << x << ", " << y << ") is off the table";
+        bool known = false;
+        for (const Expected& e : kOnTheTable) known = known || e.distance(x, y) < 0.03;
+        EXPECT_TRUE(known) << "object " << o.index << " at (" << x << ", " << y
+                           << ") stands where nothing stands";
+      }
+    }
+    // The labeled cloud's object field and the marker boxes agree with ~objects, frame by frame.
+    EXPECT_TRUE(received.cloud_has_object_field) << "labeled_cloud has no uint32 'object' field";
+    std::size_t compared = 0;
+    for (const hope::ObjectArray& frame : received.objects) {
+      const double stamp = frame.header.stamp.toSec();
+      const auto counts = received.cloud_counts.find(stamp);
+      if (counts != received.cloud_counts.end()) {
+        ++compared;
+        for (const hope::Object& o : frame.objects) {
+          const auto n = counts->second.find(std::uint32_t(o.index + 1));
+          EXPECT_EQ(n == counts->second.end() ? 0u : n->second, o.num_points)
+              << "object " << o.index << " at " << stamp;
+        }
+      }
+      const auto boxes = received.marker_boxes.find(stamp);
+      if (boxes != received.marker_boxes.end()) {
+        EXPECT_EQ(boxes->second, frame.objects.size());
+      }
+    }
+    EXPECT_GE(compared, 1u) << "no labeled cloud with the stamp of an ObjectArray";
+  }
+
+  // A 10 × 10 cm footprint with 2 cm clearance on the table: on it, and clear of its objects.
+  const int table = tableId();
+  ASSERT_GE(table, 0) << "no table at 0.75 m in the last PlaneArray";
+  const double width = 0.10, depth = 0.10, clearance = 0.02;
+  const hope::FindPlacement::Response found = place(hope_ns, width, depth, clearance, table);
+  ASSERT_TRUE(found.success) << found.message;
+  EXPECT_EQ(found.header.frame_id, "odom");
+  ASSERT_FALSE(found.placements.empty()) << "the table has room for a 10 cm square";
+  for (const hope::PlacementPose& p : found.placements) {
+    EXPECT_EQ(p.plane_id, table);
+    EXPECT_NEAR(p.pose.position.z, kTableZ, 0.02);
+    EXPECT_NEAR(2 * std::atan2(p.pose.orientation.z, p.pose.orientation.w), p.yaw, 1e-6);
+    const double c = std::cos(p.yaw), s = std::sin(p.yaw);
+    // Every point of the footprint (a 5 mm grid over it) on the table and at least the
+    // clearance (less one r_z / 2 cell of the placement grid) from every object.
+    double nearest = 1e9;
+    for (double u = -width / 2; u <= width / 2 + 1e-9; u += 0.005) {
+      for (double v = -depth / 2; v <= depth / 2 + 1e-9; v += 0.005) {
+        const double x = p.pose.position.x + c * u - s * v, y = p.pose.position.y + s * u + c * v;
+        EXPECT_TRUE(x >= kTableX0 && x <= kTableX1 && y >= kTableY0 && y <= kTableY1)
+            << "placement at (" << p.pose.position.x << ", " << p.pose.position.y
+            << ") leaves the table at (" << x << ", " << y << ")";
+        for (const Expected& e : kOnTheTable) nearest = std::min(nearest, e.distance(x, y));
+      }
+    }
+    EXPECT_GE(nearest, clearance - 0.01) << "placement at (" << p.pose.position.x << ", "
+                                         << p.pose.position.y << ") crowds an object";
+  }
+  // Refusals carry the reason.
+  hope::FindPlacement::Response refused = place(hope_ns, 0.0, 0.1, 0.02, -1);
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.message.find("width"), std::string::npos) << refused.message;
+  refused = place(hope_ns, 0.1, 0.1, 0.02, 123456);
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.message.find("plane_id 123456"), std::string::npos) << refused.message;
+  refused = place(hope_ns, 20.0, 20.0, 0.0, -1);  // larger than every plane of the room
+  EXPECT_FALSE(refused.success);
+  EXPECT_FALSE(refused.message.empty());
+
+  // Both switched off: no objects in the cloud or the markers, and the service refuses.
+  reconfigure(hope_ns, false, false);
+  std::size_t planes_seen;
+  {
+    std::lock_guard<std::mutex> lock(received.mutex);
+    planes_seen = received.planes.size();
+    received.cloud_counts.clear();
+    received.marker_boxes.clear();
+  }
+  // Three more frames: the first may have started before the change.
+  ASSERT_TRUE(waitFor([&] { return received.planes.size() >= planes_seen + 3; }, timeout));
+  ASSERT_TRUE(waitFor([&] { return received.cloud_counts.size() >= 2; }, timeout));
+  {
+    std::lock_guard<std::mutex> lock(received.mutex);
+    const auto& last = received.cloud_counts.rbegin()->second;
+    EXPECT_EQ(last.size(), 1u) << "object values other than 0 with objects off";
+    EXPECT_EQ(last.count(0), 1u);
+    ASSERT_FALSE(received.marker_boxes.empty());
+    EXPECT_EQ(received.marker_boxes.rbegin()->second, 0u) << "object boxes with objects off";
+  }
+  refused = place(hope_ns, 0.1, 0.1, 0.02, -1);
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.message.find("off"), std::string::npos) << refused.message;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "hope_object_checker");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

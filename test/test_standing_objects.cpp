@@ -95,10 +95,11 @@ XyBox under(const V3& centre, double yaw, const V3& size) {
 struct Extracted {
   Extractor extractor;
   Result result;
-  explicit Extracted(const LabeledCloud& scene) {
+  explicit Extracted(const LabeledCloud& scene,
+                     const Orientation& orientation = Orientation::identity()) {
     ExtractOutputs outputs;
     outputs.objects = true;
-    result = extractor.extract(scene.cloud, Orientation::identity(), outputs);
+    result = extractor.extract(scene.cloud, orientation, outputs);
   }
   std::vector<Placement> place(const Footprint& footprint, int plane_index = -1) {
     PlacementQuery query;
@@ -195,6 +196,74 @@ TEST(StandingObjects, BoxesAndACanOnATableAreOneObjectEachWithTheirBoxes) {
   // The table's free area: its observed cells, less nothing (objects stand in its holes).
   EXPECT_GT(e.result.planes[table].free_area, 0.7);
   EXPECT_LT(e.result.planes[table].free_area, 0.8);
+}
+
+// An axis-aligned box [x0, x1] × [y0, y1] × [base, base + height] as a depth camera at `eye`
+// sees it from about 1 m (samples 2 mm apart): the faces turned towards the eye, without the
+// points on `touching` up to `touching_top` (the box it touches: their common face is seen by
+// no one).
+void addSeenBox(LabeledCloud& scene, double x0, double y0, double x1, double y1, double base,
+                double height, const V3& eye, const std::vector<XyBox>& touching,
+                double touching_top, int label) {
+  const V3 lo(x0, y0, base), hi(x1, y1, base + height);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      if (axis == 2 && side == 0) continue;  // the bottom stands on the table
+      const double at = side ? hi[axis] : lo[axis];
+      if ((side ? eye[axis] - at : at - eye[axis]) <= 0) continue;  // turned away from the eye
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      constexpr double kNear = 0.002;
+      for (double s = lo[a]; s <= hi[a] + 1e-9; s += kNear) {
+        for (double t = lo[b]; t <= hi[b] + 1e-9; t += kNear) {
+          V3 p;
+          p[axis] = at, p[a] = s, p[b] = t;
+          bool hidden = false;
+          for (const XyBox& other : touching) {
+            hidden = hidden || (other.contains(p.x(), p.y()) && p.z() <= touching_top + 1e-9);
+          }
+          if (!hidden) addPoint(scene, p, label);
+        }
+      }
+    }
+  }
+}
+
+// Two boxes pushed together on the table, of other heights and depths, as a camera in front,
+// to the left and above sees them: one object each, split at the concave creases where they
+// meet (the lower box's top against the taller one's side; the front faces' inside corner).
+// Without a viewpoint a crease cannot be told from an edge, and they stay one.
+TEST(StandingObjects, TwoTouchingBoxesAreTwoObjectsWhenTheViewpointIsKnown) {
+  const V3 eye(-0.6, -1.2, 1.6);
+  const XyBox low{0.30, 0.30, 0.45, 0.42}, tall{0.45, 0.25, 0.60, 0.45};
+  const double low_height = 0.10, tall_height = 0.22;
+  LabeledCloud scene;
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {low, tall}, 1);
+  addSeenBox(scene, low.x0, low.y0, low.x1, low.y1, kTable, low_height, eye, {tall},
+             kTable + tall_height, 2);
+  addSeenBox(scene, tall.x0, tall.y0, tall.x1, tall.y1, kTable, tall_height, eye, {low},
+             kTable + low_height, 3);
+  Extracted seen(scene, Orientation::identity().withViewpoint(eye));
+  ASSERT_EQ(seen.result.objects.size(), 2u) << objectsOf(seen.result);
+  const int l = objectAt(seen.result, (low.x0 + low.x1) / 2, (low.y0 + low.y1) / 2);
+  const int t = objectAt(seen.result, (tall.x0 + tall.x1) / 2, (tall.y0 + tall.y1) / 2);
+  ASSERT_TRUE(l >= 0 && t >= 0 && l != t) << objectsOf(seen.result);
+  EXPECT_LT(sideError(seen.result.objects[l], V3(low.x1 - low.x0, low.y1 - low.y0, 0)), 0.05);
+  EXPECT_LT(sideError(seen.result.objects[t], V3(tall.x1 - tall.x0, tall.y1 - tall.y0, 0)), 0.05);
+  EXPECT_NEAR(seen.result.objects[l].height, low_height, 0.01);
+  EXPECT_NEAR(seen.result.objects[t].height, tall_height, 0.01);
+  // Nearly every point goes to its own box (the points on the crease itself may go either way;
+  // those within r_z / 2 = 1 cm of the table are no object's by definition).
+  std::size_t right = 0, boxes = 0;
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i) {
+    if (scene.labels[i] < 2 || scene.cloud[i].z <= kTable + 0.011) continue;
+    ++boxes;
+    right += seen.result.point_objects[i] == (scene.labels[i] == 2 ? l : t) ? 1 : 0;
+  }
+  EXPECT_GT(static_cast<double>(right), 0.97 * static_cast<double>(boxes));
+
+  Extracted unseen(scene);
+  EXPECT_EQ(unseen.result.objects.size(), 1u) << objectsOf(unseen.result);
 }
 
 TEST(StandingObjects, ABoxOnAShelfAndACupOnABookBelongToTheirOwnSurfaces) {

@@ -114,8 +114,10 @@ class Extractor {
   const std::vector<std::uint8_t>& candidateMask() const { return is_candidate_; }
 
  private:
-  // The objects standing on result's planes and each plane's free area.
-  void describeWhatStands(Result& result, const ObjectParams& object_params) const;
+  // The objects standing on result's planes and each plane's free area; `viewpoint` (the
+  // sensor in the aligned points' frame, when known) lets touching objects come apart.
+  void describeWhatStands(Result& result, const ObjectParams& object_params,
+                          const std::optional<Eigen::Vector3d>& viewpoint) const;
 
   Params params_;
   std::vector<Eigen::Vector3f> aligned_;  // the aligned copy, when one is needed

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,11 +59,14 @@ struct StandingObjects {
 
 // The objects standing on `planes`, from the aligned points (relative to `local_origin`, as
 // Extractor::alignedPoints() gives them) and the points' plane labels (Result::point_labels).
-// Planes seen from below (facing kDown) carry nothing.
+// Planes seen from below (facing kDown) carry nothing. With the sensor's `viewpoint` (in the
+// aligned points' frame), objects that touch are split at the concave creases between them
+// (crease_splitting.h); without it they stay one.
 StandingObjects findStandingObjects(const AlignedPoints& points,
                                     const std::vector<HorizontalPlane>& planes,
                                     const std::vector<std::int32_t>& point_labels,
                                     const Eigen::Vector3d& local_origin, const Params& params,
-                                    const ObjectParams& object_params = ObjectParams());
+                                    const ObjectParams& object_params = ObjectParams(),
+                                    const std::optional<Eigen::Vector3d>& viewpoint = std::nullopt);
 
 }  // namespace hope

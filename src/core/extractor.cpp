@@ -150,15 +150,17 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.description_ms += stage.lap();
 
-  if (outputs.objects) describeWhatStands(result, outputs.object_params);
+  if (outputs.objects) describeWhatStands(result, outputs.object_params, viewpoint);
   result.timings.objects_ms = stage.lap();
   result.timings.total_ms = total.lap();
   return result;
 }
 
-void Extractor::describeWhatStands(Result& result, const ObjectParams& object_params) const {
-  StandingObjects standing = findStandingObjects(aligned_view_, result.planes, result.point_labels,
-                                                 result.local_origin, params_, object_params);
+void Extractor::describeWhatStands(Result& result, const ObjectParams& object_params,
+                                   const std::optional<Eigen::Vector3d>& viewpoint) const {
+  StandingObjects standing =
+      findStandingObjects(aligned_view_, result.planes, result.point_labels, result.local_origin,
+                          params_, object_params, viewpoint);
   const std::vector<double> free = freeAreas(aligned_view_, result.planes, result.point_labels,
                                              standing, result.local_origin, params_);
   for (std::size_t p = 0; p < result.planes.size(); ++p) result.planes[p].free_area = free[p];

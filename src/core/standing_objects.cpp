@@ -1,6 +1,7 @@
 #include "hope/standing_objects.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -8,7 +9,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include <Eigen/Geometry>
+
+#include "cell_keys.h"
 #include "hope/convex_hull.h"
+#include "hope/crease_splitting.h"
 
 namespace hope {
 
@@ -94,7 +99,20 @@ class SupportArea {
     const double lo_y = (y0_ + 1) * cell_ - reach, hi_y = (y0_ + height_ - 1) * cell_ + reach;
     return x >= lo_x && x <= hi_x && y >= lo_y && y <= hi_y;
   }
+  // From now on only what lies within `margin` of the plane's own points' box in xy is over
+  // it (see the raised planes in findStandingObjects).
+  void tightenTo(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin, double margin) {
+    tight_ = true;
+    tight_box_ = {static_cast<float>(plane.bbox[0] - local_origin.x() - margin),
+                  static_cast<float>(plane.bbox[1] - local_origin.y() - margin),
+                  static_cast<float>(plane.bbox[2] - local_origin.x() + margin),
+                  static_cast<float>(plane.bbox[3] - local_origin.y() + margin)};
+  }
   bool contains(float x, float y) const {
+    if (tight_ &&
+        (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
+      return false;
+    }
     const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
     const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
     return ix >= 0 && iy >= 0 && ix < width_ && iy < height_ && mask_[iy * width_ + ix];
@@ -104,6 +122,8 @@ class SupportArea {
   double cell_;
   long x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> mask_;
+  bool tight_ = false;
+  std::array<float, 4> tight_box_{};
 };
 
 // A point's cell on the object grid, with the plane it stands on, as one key: 20 bits for x
@@ -133,37 +153,6 @@ std::uint64_t neighbourKey(std::uint64_t key, int dx, int dy, int dz) {
                              static_cast<std::uint64_t>(dz) * (std::uint64_t{1} << 8);
   return key + step;
 }
-
-// Sorts (key, point) entries by key, points in their order among equal keys (they come in
-// point order): the order std::sort of the pairs gives, by four passes of 16 bits.
-void sortByKey(std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries) {
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(entries.size());
-  std::vector<std::size_t> start(65537);
-  for (int shift = 0; shift < 64; shift += 16) {
-    std::fill(start.begin(), start.end(), 0);
-    for (const auto& e : entries) ++start[((e.first >> shift) & 0xffff) + 1];
-    if (start[((entries.empty() ? 0 : entries.front().first >> shift) & 0xffff) + 1] ==
-        entries.size()) {
-      continue;  // one digit for all: this pass would change nothing
-    }
-    for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
-    for (const auto& e : entries) sorted[start[(e.first >> shift) & 0xffff]++] = e;
-    entries.swap(sorted);
-  }
-}
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  void join(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // The smallest-area rectangle around a convex polygon has a side along one of its edges.
 void smallestUprightBox(const std::vector<Eigen::Vector2d>& hull, Eigen::Vector2d& centre,
@@ -198,13 +187,69 @@ void smallestUprightBox(const std::vector<Eigen::Vector2d>& hull, Eigen::Vector2
   if (yaw >= M_PI) yaw -= M_PI;
 }
 
+// A taller object pushed against a lower one rises beside the lower one's top, and what of it
+// stands over that top's box (the strip along the edge they share) was given to the top. Such
+// a part, on a raised plane, whose xy box touches that of an object on a lower plane rising
+// higher than the raised plane, is that object's: it is joined to it, and the objects are
+// numbered afresh (in the order of their first point). A cup on a book is not joined to the
+// book's sides, which rise no higher than the book.
+void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
+                            const std::vector<std::uint8_t>& raised,
+                            const Eigen::Vector3d& local_origin, double margin,
+                            std::vector<std::int32_t>& object_of_point,
+                            std::vector<int>& object_plane) {
+  const std::size_t n = object_plane.size();
+  bool any_raised = false;
+  for (int p : object_plane) any_raised = any_raised || raised[p];
+  if (!any_raised) return;
+  std::vector<Eigen::AlignedBox3f> box(n);
+  for (std::size_t i = 0; i < object_of_point.size(); ++i) {
+    if (object_of_point[i] >= 0) box[object_of_point[i]].extend(points[i]);
+  }
+  std::vector<std::int32_t> into(n);
+  std::iota(into.begin(), into.end(), 0);
+  bool joined = false;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (!raised[object_plane[r]]) continue;
+    const double top_height = planes[object_plane[r]].height - local_origin.z();
+    for (std::size_t l = 0; l < n; ++l) {
+      if (l == r || raised[object_plane[l]] ||
+          planes[object_plane[l]].height >= planes[object_plane[r]].height ||
+          box[l].max().z() <= top_height + margin) {
+        continue;
+      }
+      const Eigen::Vector2f gap = (box[r].min().head<2>() - box[l].max().head<2>())
+                                      .cwiseMax(box[l].min().head<2>() - box[r].max().head<2>());
+      if (gap.maxCoeff() <= margin) {
+        into[r] = static_cast<std::int32_t>(l);
+        joined = true;
+        break;
+      }
+    }
+  }
+  if (!joined) return;
+  std::vector<std::int32_t> renumbered(n, -1);
+  std::vector<int> plane_of;
+  for (std::int32_t& o : object_of_point) {
+    if (o < 0) continue;
+    const std::int32_t target = into[o];
+    if (renumbered[target] < 0) {
+      renumbered[target] = static_cast<std::int32_t>(plane_of.size());
+      plane_of.push_back(object_plane[target]);
+    }
+    o = renumbered[target];
+  }
+  object_plane = std::move(plane_of);
+}
+
 }  // namespace
 
 StandingObjects findStandingObjects(const AlignedPoints& points,
                                     const std::vector<HorizontalPlane>& planes,
                                     const std::vector<std::int32_t>& point_labels,
                                     const Eigen::Vector3d& local_origin, const Params& params,
-                                    const ObjectParams& object_params) {
+                                    const ObjectParams& object_params,
+                                    const std::optional<Eigen::Vector3d>& viewpoint) {
   validate(object_params);
   if (point_labels.size() != points.size()) {
     throw std::invalid_argument("findStandingObjects: one plane label per point is needed");
@@ -257,6 +302,12 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         break;
       }
     }
+  }
+  // What rises beside an object's top (a taller box pushed against a lower one) is not on it:
+  // an object's top carries only over its own points' box (the r_xy cells of its mask would
+  // claim up to a cell of the neighbour). Something overhanging it still joins it as "beside".
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    if (raised[supports[s]]) areas[s].tightenTo(planes[supports[s]], local_origin, margin);
   }
 
   // Objects are joined where their points touch, on cells of r_z / 4 (5 mm: two Kinect samples
@@ -342,25 +393,46 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     }
   }
   std::vector<std::int32_t> object_of_component(cell_keys.size(), -1);
-  std::vector<std::vector<Eigen::Vector2d>> footprint_points;
-  std::vector<double> top;
+  std::vector<int> object_plane;  // the plane index each object stands on
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (point_cell[i] == std::numeric_limits<std::uint32_t>::max()) continue;
     const std::uint32_t root = components.find(point_cell[i]);
     if (component_points[root] < object_params.min_points || !component_seeded[root]) continue;
     if (object_of_component[root] < 0) {
-      object_of_component[root] = static_cast<std::int32_t>(result.objects.size());
-      StandingObject object;
-      object.index = object_of_component[root];
-      const int support = static_cast<int>(cell_keys[root] & 0xff);
-      object.plane_index = supports[support];
-      object.plane_id = planes[object.plane_index].id;
-      result.objects.push_back(object);
-      footprint_points.emplace_back();
-      top.push_back(-std::numeric_limits<double>::infinity());
+      object_of_component[root] = static_cast<std::int32_t>(object_plane.size());
+      object_plane.push_back(supports[cell_keys[root] & 0xff]);
     }
-    const std::int32_t o = object_of_component[root];
-    result.point_objects[i] = o;
+    result.point_objects[i] = object_of_component[root];
+  }
+  // Objects that touch come apart at the concave creases between them, which only a known
+  // viewpoint tells from convex edges (a fold seen from the other side bends the other way).
+  if (viewpoint && !object_plane.empty()) {
+    CreaseParams crease;
+    // Patches of r_z / 2 (1 cm: ~30 Kinect samples at 1 m). Where the cloud is sparser (far
+    // away, a LiDAR) they hold too few points for a normal and split nothing.
+    crease.patch = params.r_z / 2;
+    // A part split off must be a real face or more (~5 × 5 cm at 1 m), not a crease's sliver.
+    crease.min_part_points = 20 * object_params.min_points;
+    crease.min_points = object_params.min_points;
+    std::vector<int> parent;
+    splitAtConcaveCreases(points, *viewpoint, crease, result.point_objects, parent);
+    for (int& p : parent) p = object_plane[p];
+    object_plane = std::move(parent);
+  }
+  rejoinRisingBesideTops(points, planes, raised, local_origin, margin, result.point_objects,
+                         object_plane);
+  result.objects.resize(object_plane.size());
+  std::vector<std::vector<Eigen::Vector2d>> footprint_points(object_plane.size());
+  std::vector<double> top(object_plane.size(), -std::numeric_limits<double>::infinity());
+  for (std::size_t o = 0; o < object_plane.size(); ++o) {
+    StandingObject& object = result.objects[o];
+    object.index = static_cast<int>(o);
+    object.plane_index = object_plane[o];
+    object.plane_id = planes[object.plane_index].id;
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::int32_t o = result.point_objects[i];
+    if (o < 0) continue;
     const Eigen::Vector3f q = points[i];
     StandingObject& object = result.objects[o];
     ++object.num_points;

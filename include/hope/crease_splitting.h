@@ -1,0 +1,47 @@
+// Touching objects apart at the concave creases between them: a box standing against a can, a
+// box on a box. Joining points where they touch (standing_objects.h) makes such a pair one
+// object; what tells them apart is the fold between them, which bends away from the sensor.
+// The criterion is LCCP's (Stein et al., "Object partitioning using local convexity", CVPR
+// 2014): two adjacent surface patches with centroids c1, c2 and normals n1, n2 (pointing at
+// the sensor) meet convexly when (n1 − n2)·(c1 − c2) > 0, and an object is what its patches
+// reach through convex or smooth (normals within `smooth_deg`) connections. Patches here are
+// cubes of the object points, not supervoxels: the cells the stage already has, coarser.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/aligned_points.h"
+
+namespace hope {
+
+struct CreaseParams {
+  // Side of a patch, metres: large enough that its points give a normal through a depth
+  // camera's noise (~3 mm at 1 m), small enough that a 5 cm box side has patches of its own.
+  double patch = 0.02;
+  // Adjacent patches whose normals differ by less than this are one surface whatever the sign
+  // of the bend (a can's side, a bowl's rim), degrees.
+  double smooth_deg = 10.0;
+  // A part with fewer points than this is no face of its own: it joins the neighbour it touches
+  // that has the most points (in one round, so that a small object split off a large one stays).
+  std::size_t min_part_points = 800;
+  // Nor is one with fewer than this an object at all: such parts join their neighbours until
+  // none is left (ObjectParams::min_points).
+  std::size_t min_points = 40;
+};
+
+// Splits the objects of `object_of_point` (per point: an object index or -1) at their concave
+// creases, seen from `viewpoint` (the sensor, in the points' frame). On return it holds the
+// parts' indices, numbered in the order of their first point, and parent[k] says which object
+// part k was split from. Returns the number of parts. Objects are left whole when their
+// extent exceeds 65,000 patches along an axis (a kilometre scan) or there are more than
+// 65,000 of them.
+std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vector3d& viewpoint,
+                                  const CreaseParams& params,
+                                  std::vector<std::int32_t>& object_of_point,
+                                  std::vector<int>& parent);
+
+}  // namespace hope

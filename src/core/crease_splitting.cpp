@@ -1,0 +1,220 @@
+#include "hope/crease_splitting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Eigenvalues>
+
+#include "cell_keys.h"
+
+namespace hope {
+
+namespace {
+
+// A patch key: 16 bits each for the object and the patch's x, y, z (relative to the objects'
+// lowest corner, plus one, so a neighbour one step down stays inside its field).
+constexpr int kFieldBits = 16;
+constexpr long kFieldLimit = (1L << kFieldBits) - 2;
+
+std::uint64_t neighbourKey(std::uint64_t key, int dx, int dy, int dz) {
+  // Unsigned arithmetic wraps by definition; no field over- or underflows (see kFieldLimit).
+  return key + static_cast<std::uint64_t>(dx) * (std::uint64_t{1} << 32) +
+         static_cast<std::uint64_t>(dy) * (std::uint64_t{1} << 16) + static_cast<std::uint64_t>(dz);
+}
+
+struct Patch {
+  std::size_t count = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  // Flat enough for its normal to mean something: not too few points, not a corner or an edge
+  // where two faces share the patch (its normal lies between theirs and would bridge a crease).
+  bool flat = false;
+};
+
+// Fewer points than this give no normal worth trusting.
+constexpr std::size_t kLeastPatchPoints = 6;
+// The share of a patch's variance across its best plane (surface variation, Pauly et al.)
+// above which it is not flat. A patch holding a sliver of a second face (a crease, an edge) has
+// a normal tilted towards it and would bridge the crease. On mosd_dev's Kinect scenes 0.02 keeps
+// touching objects apart (weighted overlap 0.871); 0.03 lets slivers through (0.762), 0.06
+// joins nearly everything that touches (0.717; scripts/score_objects.sh).
+constexpr double kMostFlatVariation = 0.02;
+
+}  // namespace
+
+std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vector3d& viewpoint,
+                                  const CreaseParams& params,
+                                  std::vector<std::int32_t>& object_of_point,
+                                  std::vector<int>& parent) {
+  parent.clear();
+  int num_objects = 0;
+  Eigen::Vector3f lowest = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
+  Eigen::Vector3f highest = -lowest;
+  for (std::size_t i = 0; i < object_of_point.size(); ++i) {
+    if (object_of_point[i] < 0) continue;
+    num_objects = std::max(num_objects, object_of_point[i] + 1);
+    lowest = lowest.cwiseMin(points[i]);
+    highest = highest.cwiseMax(points[i]);
+  }
+  const auto unchanged = [&] {
+    parent.resize(static_cast<std::size_t>(num_objects));
+    for (int o = 0; o < num_objects; ++o) parent[o] = o;
+    return static_cast<std::size_t>(num_objects);
+  };
+  if (num_objects == 0 || num_objects > kFieldLimit ||
+      ((highest - lowest) / params.patch).maxCoeff() >= kFieldLimit - 1) {
+    return unchanged();
+  }
+  // Each object point's patch, then the distinct patches in key order.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  for (std::size_t i = 0; i < object_of_point.size(); ++i) {
+    if (object_of_point[i] < 0) continue;
+    const Eigen::Vector3f q = (points[i] - lowest) / static_cast<float>(params.patch);
+    keyed.emplace_back((static_cast<std::uint64_t>(object_of_point[i]) << 48) |
+                           (static_cast<std::uint64_t>(q.x() + 1) << 32) |
+                           (static_cast<std::uint64_t>(q.y() + 1) << 16) |
+                           static_cast<std::uint64_t>(q.z() + 1),
+                       static_cast<std::uint32_t>(i));
+  }
+  sortByKey(keyed);
+  std::vector<std::uint64_t> keys;
+  std::vector<Patch> patches;
+  std::vector<std::uint32_t> patch_of_entry(keyed.size());
+  for (std::size_t e = 0; e < keyed.size(); ++e) {
+    if (keys.empty() || keys.back() != keyed[e].first) {
+      keys.push_back(keyed[e].first);
+      patches.emplace_back();
+    }
+    patch_of_entry[e] = static_cast<std::uint32_t>(keys.size() - 1);
+    // Relative to the lowest corner: sums of squares of small numbers keep their precision.
+    const Eigen::Vector3d q = (points[keyed[e].second] - lowest).cast<double>();
+    Patch& patch = patches.back();
+    ++patch.count;
+    patch.sum += q;
+    patch.outer += q * q.transpose();
+  }
+  const Eigen::Vector3d eye = viewpoint - lowest.cast<double>();
+  for (Patch& patch : patches) {
+    patch.centroid = patch.sum / static_cast<double>(patch.count);
+    if (patch.count < kLeastPatchPoints) continue;
+    const Eigen::Matrix3d covariance = patch.outer / static_cast<double>(patch.count) -
+                                       patch.centroid * patch.centroid.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(covariance);
+    patch.normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
+    if (patch.normal.dot(eye - patch.centroid) < 0) patch.normal = -patch.normal;
+    const Eigen::Vector3d spread = solver.eigenvalues();
+    patch.flat = spread(0) <= kMostFlatVariation * spread.sum();
+  }
+
+  // An object whose points lie mostly in patches that are not flat (a sparse cloud: too few
+  // points per patch; a crumpled bag) shows no creases to cut at: it stays whole.
+  std::vector<std::size_t> object_points(static_cast<std::size_t>(num_objects), 0),
+      object_flat_points(static_cast<std::size_t>(num_objects), 0);
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::size_t o = keys[k] >> 48;
+    object_points[o] += patches[k].count;
+    object_flat_points[o] += patches[k].flat ? patches[k].count : 0;
+  }
+  const auto whole = [&](std::uint64_t key) {
+    const std::size_t o = key >> 48;
+    return 10 * object_flat_points[o] < object_points[o];
+  };
+  // Adjacent patches (26-neighbourhood) of one object join when they meet smoothly or convexly.
+  // Each pair once, from the smaller key, by one forward sweep per offset (as the objects' cells).
+  const double smooth = std::cos(params.smooth_deg * M_PI / 180.0);
+  UnionFind parts(keys.size());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;
+  for (int dx = 0; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;
+        std::size_t other = 0;
+        for (std::uint32_t a = 0; a < keys.size(); ++a) {
+          const std::uint64_t wanted = neighbourKey(keys[a], dx, dy, dz);
+          while (other < keys.size() && keys[other] < wanted) ++other;
+          if (other == keys.size()) break;
+          if (keys[other] != wanted) continue;
+          const auto b = static_cast<std::uint32_t>(other);
+          adjacent.emplace_back(a, b);
+          const Patch &p = patches[a], &q = patches[b];
+          if (whole(keys[a]) || (p.flat && q.flat &&
+                                 (std::fabs(p.normal.dot(q.normal)) >= smooth ||
+                                  (p.normal - q.normal).dot(p.centroid - q.centroid) > 0))) {
+            parts.join(a, b);
+          }
+        }
+      }
+    }
+  }
+  // A patch that is not flat (an edge, a corner, a few stray points) belongs with the flat
+  // patch next to it that has the most points: it never bridges a crease.
+  std::vector<std::uint32_t> flat_neighbour(keys.size(), std::numeric_limits<std::uint32_t>::max());
+  for (const auto& [a, b] : adjacent) {
+    for (const auto& [from, to] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+      if (patches[from].flat || !patches[to].flat) continue;
+      std::uint32_t& best = flat_neighbour[from];
+      if (best == std::numeric_limits<std::uint32_t>::max() ||
+          patches[to].count > patches[best].count) {
+        best = to;
+      }
+    }
+  }
+  for (std::uint32_t k = 0; k < keys.size(); ++k) {
+    if (flat_neighbour[k] != std::numeric_limits<std::uint32_t>::max()) {
+      parts.join(k, flat_neighbour[k]);
+    }
+  }
+  // Parts too small to be faces (a crease's own sliver, a handle's stub) join the neighbour
+  // with the most points, in one round: a second round would also swallow the small objects
+  // that the first left small. Then parts too small to be objects at all join theirs until none
+  // is left that touches another part (each round at least halves them).
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::size_t> part_points(keys.size());
+  std::vector<std::uint32_t> best_neighbour(keys.size());
+  const auto joinSmallParts = [&](std::size_t least_points) {
+    std::fill(part_points.begin(), part_points.end(), 0);
+    for (std::uint32_t k = 0; k < keys.size(); ++k) part_points[parts.find(k)] += patches[k].count;
+    std::fill(best_neighbour.begin(), best_neighbour.end(), kNone);
+    for (const auto& [a, b] : adjacent) {
+      const std::uint32_t ra = parts.find(a), rb = parts.find(b);
+      if (ra == rb) continue;
+      for (const auto& [small, large] : {std::make_pair(ra, rb), std::make_pair(rb, ra)}) {
+        if (part_points[small] >= least_points) continue;
+        std::uint32_t& best = best_neighbour[small];
+        if (best == kNone || part_points[large] > part_points[best]) best = large;
+      }
+    }
+    bool joined = false;
+    for (std::uint32_t k = 0; k < keys.size(); ++k) {
+      if (best_neighbour[k] != kNone && parts.find(k) != parts.find(best_neighbour[k])) {
+        parts.join(k, best_neighbour[k]);
+        joined = true;
+      }
+    }
+    return joined;
+  };
+  joinSmallParts(params.min_part_points);
+  while (joinSmallParts(params.min_points)) {
+  }
+  // The parts' indices in the order of their first point.
+  std::vector<std::int32_t> index_of_part(keys.size(), -1);
+  std::vector<std::uint32_t> patch_of_point(object_of_point.size());
+  for (std::size_t e = 0; e < keyed.size(); ++e)
+    patch_of_point[keyed[e].second] = patch_of_entry[e];
+  for (std::size_t i = 0; i < object_of_point.size(); ++i) {
+    if (object_of_point[i] < 0) continue;
+    const std::uint32_t root = parts.find(patch_of_point[i]);
+    if (index_of_part[root] < 0) {
+      index_of_part[root] = static_cast<std::int32_t>(parent.size());
+      parent.push_back(object_of_point[i]);
+    }
+    object_of_point[i] = index_of_part[root];
+  }
+  return parent.size();
+}
+
+}  // namespace hope

@@ -27,7 +27,8 @@ hope::tools::CommandLine commandLine() {
       "scripts/score_objects.sh.");
   cl.section("input")
       .value("--input", "FILE", "point cloud, .pcd or .ply, in the sensor frame")
-      .value("--gravity", "\"X Y Z\"", "accelerometer at rest in the sensor frame (points UP), as hope_extract's")
+      .value("--gravity", "\"X Y Z\"",
+             "accelerometer at rest in the sensor frame (points UP), as hope_extract's")
       .value("--method", "NAME", "tabletop or lccp")
       .value("--repeat", "N", "run N times and report the last run's time (default 1)");
   cl.section("output")

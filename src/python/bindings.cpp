@@ -23,6 +23,7 @@
 #include "hope/extractor.h"
 #include "hope/plane_colors.h"
 #include "hope/plane_tracker.h"
+#include "hope/surface_map.h"
 #include "hope/up_estimation.h"
 
 namespace py = pybind11;
@@ -643,6 +644,50 @@ PYBIND11_MODULE(_hope, m) {
       .def("reset", &hope::PlaneTracker::reset)
       .def_property_readonly(
           "mode", [](const hope::PlaneTracker& t) { return hope::toString(t.options().mode); });
+
+  const hope::SurfaceMapOptions map_defaults;
+  py::class_<hope::SurfaceMap>(
+      m, "SurfaceMap",
+      "One id per surface for as long as the map lives, extents grown over frames: for planes in a "
+      "fixed frame (a pose per frame). See include/hope/surface_map.h")
+      .def(py::init([](double cell, double max_height_change, double max_extension_height_change,
+                       std::size_t max_entries, double emptied_share) {
+             hope::SurfaceMapOptions o;
+             o.cell = cell;
+             o.max_height_change = max_height_change;
+             o.max_extension_height_change = max_extension_height_change;
+             o.max_entries = max_entries;
+             o.emptied_share = emptied_share;
+             return hope::SurfaceMap(o);  // validates: ValueError naming the option
+           }),
+           py::arg("cell") = map_defaults.cell,
+           py::arg("max_height_change") = map_defaults.max_height_change,
+           py::arg("max_extension_height_change") = map_defaults.max_extension_height_change,
+           py::arg("max_entries") = map_defaults.max_entries,
+           py::arg("emptied_share") = map_defaults.emptied_share)
+      .def(
+          "update",
+          [](hope::SurfaceMap& map, ExtractionResult& r, double stamp,
+             std::optional<Eigen::Vector3d> viewpoint) {
+            return map.update(r.result.planes, stamp, viewpoint);
+          },
+          py::arg("result"), py::arg("stamp"), py::arg("viewpoint") = py::none(),
+          "gives result's planes their map ids (in place); returns the events (new, merged, "
+          "ended). viewpoint: the sensor's position in the map's frame, needed to see a space "
+          "empty")
+      .def(
+          "update",
+          [](hope::SurfaceMap& map, std::vector<hope::HorizontalPlane> planes, double stamp,
+             std::optional<Eigen::Vector3d> viewpoint) {
+            auto events = map.update(planes, stamp, viewpoint);
+            return py::make_tuple(planes, events);
+          },
+          py::arg("planes"), py::arg("stamp"), py::arg("viewpoint") = py::none(),
+          "returns (planes with map ids, events)")
+      .def("surfaces", &hope::SurfaceMap::surfaces,
+           "the entries as Planes, oldest first, with their grown outlines")
+      .def("reset", &hope::SurfaceMap::reset)
+      .def("__len__", &hope::SurfaceMap::size);
 
   m.def("depth_to_cloud", &depthToCloud, py::arg("depth"), py::arg("intrinsics"),
         py::arg("scale") = 5000.0,

@@ -30,8 +30,10 @@
 #include "hope/HopeConfig.h"
 #include "hope/ObjectArray.h"
 #include "hope/PlaneArray.h"
+#include "hope/ResetMap.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/surface_map.h"
 #include "hope/up_estimation.h"
 #include "hope_ros/cloud_conversion.h"
 #include "hope_ros/frame_gaps.h"
@@ -90,6 +92,10 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // false and the reason, never as a failed call (a client would see no reason then).
   bool findPlacement(hope::FindPlacement::Request& request,
                      hope::FindPlacement::Response& response);
+  // ~reset_map: forgets the surface map's entries and publishes the empty map.
+  bool resetMap(hope::ResetMap::Request& request, hope::ResetMap::Response& response);
+  // The map's entries on the latched ~map and ~map_markers.
+  void publishMap(const std_msgs::Header& header);
   void reconfigure(hope::HopeConfig& config, uint32_t level);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -108,6 +114,14 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
 
   ros::Publisher planes_pub_, cloud_pub_, markers_pub_, objects_pub_;
   ros::ServiceServer placement_srv_;
+  // surface_map: with tf and a fixed reference frame, ids come from a map of the surfaces
+  // (surface_map.h) instead of the tracker; the map is latched on ~map when it changes (an
+  // entry added, merged or removed) and at most once a second as extents grow.
+  bool use_map_ = false;
+  std::unique_ptr<hope::SurfaceMap> surface_map_;
+  ros::Publisher map_pub_, map_markers_pub_;
+  ros::ServiceServer reset_map_srv_;
+  ros::WallTime last_map_publish_;
   ros::Subscriber cloud_sub_;
   // tf: clouds wait in a bounded queue until their transform is there; the callback thread
   // never blocks in a lookup (a paused /clock would hold it forever).
@@ -230,6 +244,14 @@ void PlaneExtractorNodelet::onInit() {
                  source_.c_str());
     refine_ = false;
   }
+  pnh.param("surface_map", use_map_, false);
+  if (use_map_ && source_ != "tf") {
+    NODELET_ERROR(
+        "hope: ~surface_map needs orientation_source tf and a fixed ~reference_frame (odom, map): "
+        "with %s the planes' frame moves with the sensor; using the tracker",
+        source_.c_str());
+    use_map_ = false;
+  }
   if (source_ == "tf" && reference_frame_.empty()) {
     NODELET_ERROR(
         "orientation_source tf needs ~reference_frame (e.g. base_link or odom); "
@@ -263,6 +285,7 @@ void PlaneExtractorNodelet::onInit() {
   // reconfigure() before the first frame.
   extractor_ = std::make_unique<hope::Extractor>();
   tracker_ = std::make_unique<hope::PlaneTracker>();
+  surface_map_ = std::make_unique<hope::SurfaceMap>();
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -300,6 +323,11 @@ void PlaneExtractorNodelet::onInit() {
   }
   placement_srv_ =
       pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
+  if (use_map_) {
+    map_pub_ = pnh.advertise<hope::PlaneArray>("map", 1, true);
+    map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);
+    reset_map_srv_ = pnh.advertiseService("reset_map", &PlaneExtractorNodelet::resetMap, this);
+  }
   NODELET_INFO("hope: orientation from %s%s, reference frame '%s', %s", source_.c_str(),
                refine_ ? " refined by the scene" : "", reference_frame_.c_str(),
                lazy_ ? "lazy: subscribing to the cloud only while an output has a listener "
@@ -369,6 +397,7 @@ void PlaneExtractorNodelet::noteArrival(const sensor_msgs::PointCloud2& cloud) {
                           (last_stamp_ - stamp).toSec());
     std::lock_guard<std::mutex> lock(processing_mutex_);
     tracker_->reset();
+    // The surface map stays: it holds places, not times (a looping bag replays the same room).
     view_centre_.reset();
     recent_gravity_.clear();
     up_smoother_.reset();
@@ -653,7 +682,10 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     return;
   }
   for (const auto& w : result.warnings) NODELET_WARN_THROTTLE(30.0, "hope: %s", w.c_str());
-  tracker_->update(result.planes, cloud->header.stamp.toSec());
+  const std::vector<hope::TrackEvent> events =
+      use_map_ ? surface_map_->update(result.planes, cloud->header.stamp.toSec(),
+                                      orientation.viewpoint())
+               : tracker_->update(result.planes, cloud->header.stamp.toSec());
   // The objects were found under the frame's own plane ids; the tracker has just given the
   // planes (in the same order) their persistent ones.
   for (hope::StandingObject& o : result.objects) o.plane_id = result.planes[o.plane_index].id;
@@ -682,6 +714,10 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     markers_pub_.publish(markers);
   }
   if (!view_frame_.empty()) broadcastView(result, header);
+  if (use_map_ &&
+      (!events.empty() || ros::WallTime::now() - last_map_publish_ > ros::WallDuration(1.0))) {
+    publishMap(header);
+  }
   if (placements_) {
     last_cloud_ = cloud;
     last_result_ = std::move(result);
@@ -728,6 +764,33 @@ bool PlaneExtractorNodelet::findPlacement(hope::FindPlacement::Request& request,
                          ? "the footprint fits nowhere on the observed surface of " +
                                std::string(query.plane_index < 0 ? "any plane" : "that plane")
                          : "";
+  return true;
+}
+
+void PlaneExtractorNodelet::publishMap(const std_msgs::Header& header) {
+  hope::Result entries;
+  entries.planes = surface_map_->surfaces();
+  auto msg = boost::make_shared<hope::PlaneArray>(toMessage(entries, header));
+  for (std::size_t k = 0; k < entries.planes.size(); ++k) {
+    msg->planes[k].last_seen = ros::Time(std::max(0.0, entries.planes[k].last_seen));
+  }
+  map_pub_.publish(msg);
+  visualization_msgs::MarkerArray markers = planeMarkers(entries, header);
+  for (auto& m : markers.markers) m.ns = "map";
+  map_markers_pub_.publish(markers);
+  last_map_publish_ = ros::WallTime::now();
+}
+
+bool PlaneExtractorNodelet::resetMap(hope::ResetMap::Request& /*request*/,
+                                     hope::ResetMap::Response& response) {
+  std::lock_guard<std::mutex> lock(processing_mutex_);
+  response.removed = static_cast<std::uint32_t>(surface_map_->size());
+  surface_map_->reset();
+  std_msgs::Header header;
+  header.stamp = last_header_.stamp;
+  header.frame_id = reference_frame_;
+  publishMap(header);
+  NODELET_INFO("hope: surface map reset (%u surfaces forgotten)", response.removed);
   return true;
 }
 

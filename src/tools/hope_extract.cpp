@@ -23,6 +23,7 @@
 
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/surface_map.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
 #include "hope/tools/output_file.h"
@@ -88,7 +89,11 @@ hope::tools::CommandLine commandLine() {
       .value("--max-time-difference", "S",
              "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
              "that close are skipped and counted")
-      .value("--tracking", "MODE", "improved (default) or paper (NNPM of §2.5, Eq 11-14)")
+      .value("--tracking", "MODE",
+             "map (default with world poses: one id per surface for the whole run, extents "
+             "grown over frames), improved (default otherwise) or paper (NNPM of §2.5, Eq "
+             "11-14)")
+      .value("--map", "FILE.json", "with --tracking map: the final map of the surfaces")
       .value("--jsonl", "FILE",
              "one JSON line per frame: {\"stamp\", \"file\", \"planes\": [...], \"events\"}")
       .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp")
@@ -464,10 +469,36 @@ int runSequence(const Options& o) {
   const bool level = o.flag("--level");
   const bool estimate_each =
       level && seq.source == hope::tools::OrientationSource::kNone && !orientationGiven(o);
+  // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
+  // id for the whole run. Gravity alone leaves the camera's position unknown: frame-to-frame
+  // tracking.
+  const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
+  const std::string tracking = o.values.count("--tracking") ? o.values.at("--tracking")
+                               : fixed_frame                ? "map"
+                                                            : "improved";
+  const bool use_map = tracking == "map";
+  if (use_map && !fixed_frame) {
+    throw std::invalid_argument(
+        "--tracking map needs a fixed frame: world poses (the folder's groundtruth.txt or "
+        "--groundtruth); with --accelerometer or a fixed orientation the camera's position is "
+        "unknown");
+  }
+  std::optional<hope::tools::OutputFile> map_file;
+  if (o.values.count("--map")) {
+    if (!use_map) {
+      throw std::invalid_argument("--map writes the surface map, which --tracking " + tracking +
+                                  " does not keep");
+    }
+    map_file.emplace(o.values.at("--map"));
+  }
   hope::TrackerOptions tracker_options;
-  if (o.values.count("--tracking"))
-    tracker_options.mode = hope::trackingModeFromString(o.values.at("--tracking"));
+  if (!use_map) tracker_options.mode = hope::trackingModeFromString(tracking);
   hope::PlaneTracker tracker(tracker_options);
+  hope::SurfaceMapOptions map_options;
+  map_options.cell = params.r_xy;
+  // Surfaces the extraction tells apart (r_z) stay apart where they meet.
+  map_options.max_extension_height_change = std::min(params.r_z, map_options.max_height_change);
+  hope::SurfaceMap surface_map(map_options);
   const hope::Orientation fixed_orientation = orientation(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);
@@ -592,7 +623,9 @@ int runSequence(const Options& o) {
     wanted.point_labels = !overlay_dir.empty();
     hope::Result result = extractor.extract(input.view(), frame_orientation, wanted);
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<hope::TrackEvent> events = tracker.update(result.planes, frame.stamp);
+    const std::vector<hope::TrackEvent> events =
+        use_map ? surface_map.update(result.planes, frame.stamp, frame_orientation.viewpoint())
+                : tracker.update(result.planes, frame.stamp);
     track_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     extract_ms += result.timings.total_ms;
@@ -617,6 +650,18 @@ int runSequence(const Options& o) {
     if (jsonl.fail()) hope::tools::throwCannotWrite(jsonl_file->path());
     jsonl_file->commit();
   }
+  if (map_file) {
+    hope::tools::writeText(*map_file, [&](std::ostream& out) {
+      out << "{\"surfaces\": [";
+      const std::vector<hope::HorizontalPlane> surfaces = surface_map.surfaces();
+      for (std::size_t k = 0; k < surfaces.size(); ++k) {
+        out << (k ? ",\n  " : "\n  ");
+        hope::tools::writePlaneJson(out, surfaces[k]);
+      }
+      out << "\n]}\n";
+    });
+    map_file->commit();
+  }
   summary.print(std::cerr, "hope_extract");
   if (uncorrected > 0) {
     std::cerr << "hope_extract: warning: --level kept the given orientation of " << uncorrected
@@ -631,8 +676,8 @@ int runSequence(const Options& o) {
   std::printf(
       "%zu frame(s) of %s (%s, %s tracking): %.1f planes/frame, %zu distinct ids, extraction "
       "%.2f ms/frame, tracking %.3f ms/frame",
-      processed, seq.dir.c_str(), listing.layout.c_str(), hope::toString(tracker_options.mode),
-      total_planes / n, ids.size(), extract_ms / n, track_ms / n);
+      processed, seq.dir.c_str(), listing.layout.c_str(), tracking.c_str(), total_planes / n,
+      ids.size(), extract_ms / n, track_ms / n);
   if (level) {
     std::printf(", %s from the scene %.2f ms/frame", estimate_each ? "levelling" : "refinement",
                 level_ms / n);
@@ -644,8 +689,9 @@ int runSequence(const Options& o) {
 
 int run(const Options& o) {
   if (o.values.count("--sequence")) return runSequence(o);
-  for (const char* sequence_only : {"--groundtruth", "--accelerometer", "--max-time-difference",
-                                    "--tracking", "--jsonl", "--overlay-dir", "--strict"}) {
+  for (const char* sequence_only :
+       {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
+        "--overlay-dir", "--strict", "--map"}) {
     if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
     }

@@ -241,6 +241,24 @@ class DemoRoom(unittest.TestCase):
                 self.assertEqual(plane.id, by_height[round(plane.height, 3)], mode)
                 self.assertEqual(plane.age, 2)
 
+    def test_surface_map_keeps_each_surface_one_id_and_refuses_bad_options(self):
+        surface_map = hope.SurfaceMap(cell=0.05)
+        first = hope.Extractor().extract(self.points, pose=self.pose)
+        events = surface_map.update(first, 0.0, viewpoint=self.pose[:3])
+        self.assertEqual(len([e for e in events if e.kind == "new"]), len(self.truth))
+        second = hope.Extractor().extract(self.points, pose=self.pose)
+        surface_map.update(second, 1.0)
+        by_height = {round(p.height, 3): p.id for p in first.planes}
+        for plane in second.planes:
+            self.assertEqual(plane.id, by_height[round(plane.height, 3)])
+        surfaces = surface_map.surfaces()
+        self.assertEqual(len(surface_map), len(self.truth))
+        for surface in surfaces:
+            self.assertEqual(surface.age, 2)
+            self.assertTrue(surface.outline)
+        with self.assertRaisesRegex(ValueError, "cell"):
+            hope.SurfaceMap(cell=0.0)
+
     def test_tracker_takes_a_list_of_planes(self):
         tracker = hope.PlaneTracker()
         planes, events = tracker.update(self.result.planes, 0.0)

@@ -17,6 +17,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "checker_wait.h"
 #include "hope/FindPlacement.h"
 #include "hope/ObjectArray.h"
 #include "hope/PlaneArray.h"
@@ -67,17 +68,10 @@ struct Received {
 };
 Received received;
 
+// Waits until `done()` (under received.mutex) or the timeout; false on timeout.
 template <class Done>
 bool waitFor(Done done, double timeout) {
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && ros::WallTime::now() < until) {
-    {
-      std::lock_guard<std::mutex> lock(received.mutex);
-      if (done()) return true;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  return false;
+  return hope_test::waitFor(received.mutex, done, timeout);
 }
 
 void onCloud(const sensor_msgs::PointCloud2::ConstPtr& m) {

@@ -45,6 +45,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "checker_wait.h"
 #include "hope/PlaneArray.h"
 #include "steady_player.h"
 
@@ -61,18 +62,10 @@ struct Received {
 
 Received received;
 
-// Waits until `done()` or the timeout; false on timeout.
+// Waits until `done()` (under received.mutex) or the timeout; false on timeout.
 template <class Done>
 bool waitFor(Done done, double timeout) {
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && ros::WallTime::now() < until) {
-    {
-      std::lock_guard<std::mutex> lock(received.mutex);
-      if (done()) return true;
-    }
-    ros::WallDuration(0.05).sleep();
-  }
-  return false;
+  return hope_test::waitFor(received.mutex, done, timeout);
 }
 
 sensor_msgs::PointCloud2 cloudWith(const std::vector<std::string>& names, std::uint8_t type,

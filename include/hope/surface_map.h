@@ -1,0 +1,97 @@
+// A map of the surfaces seen in a fixed frame (a pose per frame, or tf to odom / map): each
+// physical surface one entry with one id for as long as the map lives. The paper's NNPM (§2.5)
+// and the PlaneTracker keep ids between recent frames; a robot that looks away and back, or
+// walks around a room, wants each table once, with all it has seen of it (as ARCore keeps its
+// planes and says which plane subsumed which). An entry's extent is the union of the cells its
+// observations occupied (grown as the sensor moves, never replaced by the last view), its
+// height and normal the area-weighted estimate from all of them. An entry out of view keeps
+// its id and extent and takes them back when seen again, however much later, unless the
+// space where it was is seen empty (the sensor's rays to a surface below pass through it):
+// then it is removed, with an event. Two entries that one observation shows to be one surface
+// merge into the older. Memory and time are bounded: at most max_entries entries (the one
+// seen longest ago goes first), and a frame costs what its planes and the entries they touch
+// cost, not what the map has accumulated elsewhere.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <unordered_set>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/plane.h"
+#include "hope/plane_tracker.h"
+
+namespace hope {
+
+struct SurfaceMapOptions {
+  // The grid the extents are kept on, metres (the extraction's r_xy is a good choice).
+  double cell = 0.05;
+  // An observation whose height is within this of an entry's and which has at least
+  // min_overlap_share of the smaller of the two (in cells) in common with it is that surface
+  // seen again, metres (a pose's error of a few centimetres included).
+  double max_height_change = 0.05;
+  double min_overlap_share = 0.3;
+  // One whose cells only touch the entry's (a part of it coming into view), or overlap it less,
+  // must be within this
+  // of its height, metres: a book lying in the hole it leaves in a table's extent, 5 cm above
+  // it, stays a surface of its own (the extraction's r_z is a good choice).
+  double max_extension_height_change = 0.02;
+  // At most this many entries; beyond it the one seen longest ago is removed (an event).
+  std::size_t max_entries = 1000;
+  // An entry not seen in a frame whose inner cells (not on its rim) were seen through (rays
+  // from the sensor to a lower surface's observed cells cross them) for at least this share is
+  // gone (0–1]. An entry with no inner cell (narrower than three cells) is never seen empty.
+  double emptied_share = 0.5;
+};
+
+// Throws std::invalid_argument naming the option that is out of range.
+void validate(const SurfaceMapOptions& options);
+
+class SurfaceMap {
+ public:
+  explicit SurfaceMap(const SurfaceMapOptions& options = SurfaceMapOptions());
+
+  // Gives each plane of a frame (in the map's fixed frame) the id of its map entry, in place,
+  // growing the entries; age and last_seen are set as the tracker sets them. Returns what
+  // happened: kNew (an entry added), kMerged (id subsumed by other_id), kEnded (an entry
+  // removed: its space seen empty, or the oldest beyond max_entries). `viewpoint` is the
+  // sensor's position in the map's frame; without it nothing is seen empty.
+  std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp,
+                                 const std::optional<Eigen::Vector3d>& viewpoint = std::nullopt);
+
+  // The entries as planes, oldest first: id, height, normal and centroid estimated from all
+  // observations; bbox, area (cells × cell²) and outline of the union of their cells; age (the
+  // number of frames it was seen in) and last_seen; the rest as last observed.
+  std::vector<HorizontalPlane> surfaces() const;
+  std::size_t size() const { return entries_.size(); }
+  const SurfaceMapOptions& options() const { return options_; }
+  // Forgets every entry; ids go on from where they were (never reused).
+  void reset();
+
+ private:
+  struct Entry {
+    int id = 0;
+    double first_seen = 0, last_seen = 0;
+    int frames = 0;
+    double weight = 0;  // observed area summed over frames
+    double height_sum = 0;
+    Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+    Eigen::Vector3d centroid_sum = Eigen::Vector3d::Zero();
+    std::unordered_set<std::uint64_t> cells;
+    std::int64_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // the cells' box, inclusive
+    HorizontalPlane last;                           // the last observation
+    double height() const { return height_sum / weight; }
+  };
+  void absorb(Entry& into, Entry& from);
+  void observe(Entry& entry, const HorizontalPlane& plane, const std::vector<std::uint64_t>& cells,
+               double stamp);
+
+  SurfaceMapOptions options_;
+  std::vector<Entry> entries_;
+  int next_id_ = 0;
+};
+
+}  // namespace hope

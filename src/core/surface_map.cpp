@@ -1,0 +1,355 @@
+#include "hope/surface_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "hope/convex_hull.h"
+#include "hope/plane_outline.h"
+
+namespace hope {
+
+void validate(const SurfaceMapOptions& options) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("surface map: " + what);
+  };
+  require(options.cell >= 0.001 && options.cell <= 10,
+          "cell = " + std::to_string(options.cell) + " is out of range [0.001, 10] m");
+  require(options.max_height_change > 0 && options.max_height_change <= 10,
+          "max_height_change = " + std::to_string(options.max_height_change) +
+              " is out of range (0, 10] m");
+  require(options.max_extension_height_change > 0 &&
+              options.max_extension_height_change <= options.max_height_change,
+          "max_extension_height_change = " + std::to_string(options.max_extension_height_change) +
+              " is out of range (0, max_height_change]");
+  require(options.min_overlap_share >= 0 && options.min_overlap_share <= 1,
+          "min_overlap_share = " + std::to_string(options.min_overlap_share) +
+              " is out of range [0, 1]");
+  require(options.max_entries >= 1 && options.max_entries <= 1000000,
+          "max_entries = " + std::to_string(options.max_entries) + " is out of range [1, 1000000]");
+  require(options.emptied_share > 0 && options.emptied_share <= 1,
+          "emptied_share = " + std::to_string(options.emptied_share) + " is out of range (0, 1]");
+}
+
+namespace {
+
+// A cell (ix, iy) as one key: 32 bits each, offset so that negative indices fit.
+constexpr std::int64_t kOffset = std::int64_t{1} << 31;
+std::uint64_t cellKey(std::int64_t ix, std::int64_t iy) {
+  return (static_cast<std::uint64_t>(ix + kOffset) << 32) |
+         static_cast<std::uint64_t>(iy + kOffset);
+}
+std::int64_t cellX(std::uint64_t key) { return static_cast<std::int64_t>(key >> 32) - kOffset; }
+std::int64_t cellY(std::uint64_t key) {
+  return static_cast<std::int64_t>(key & 0xffffffffu) - kOffset;
+}
+
+// A plane farther out than this from the frame's origin is not mapped (±100 km at 5 cm cells
+// stays far inside the keys' 32 bits).
+constexpr double kMaxCoordinate = 1e5;
+
+// The cells whose centres the plane covers: its outline (holes left open, even-odd over all
+// rings), or its hull when it has no outline, filled row by row.
+std::vector<std::uint64_t> cellsOf(const HorizontalPlane& plane, double cell) {
+  std::vector<std::uint64_t> cells;
+  std::vector<std::vector<Eigen::Vector3d>> rings = plane.outline;
+  if (rings.empty() && plane.hull.size() >= 3) rings.push_back(plane.hull);
+  if (rings.empty()) return cells;
+  for (double v : plane.bbox) {
+    if (!(std::fabs(v) < kMaxCoordinate)) return cells;
+  }
+  const std::int64_t iy0 = static_cast<std::int64_t>(std::floor(plane.bbox[1] / cell));
+  const std::int64_t iy1 = static_cast<std::int64_t>(std::floor(plane.bbox[3] / cell));
+  std::vector<double> crossings;
+  for (std::int64_t iy = iy0; iy <= iy1; ++iy) {
+    const double y = (static_cast<double>(iy) + 0.5) * cell;
+    crossings.clear();
+    for (const auto& ring : rings) {
+      for (std::size_t k = 0, prev = ring.size() - 1; k < ring.size(); prev = k++) {
+        const Eigen::Vector3d &a = ring[k], &b = ring[prev];
+        if ((a.y() > y) != (b.y() > y)) {
+          crossings.push_back(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+        }
+      }
+    }
+    std::sort(crossings.begin(), crossings.end());
+    for (std::size_t k = 0; k + 1 < crossings.size(); k += 2) {
+      // Cells whose centre lies between the two crossings.
+      const auto from = static_cast<std::int64_t>(std::ceil(crossings[k] / cell - 0.5));
+      const auto to = static_cast<std::int64_t>(std::floor(crossings[k + 1] / cell - 0.5));
+      for (std::int64_t ix = from; ix <= to; ++ix) cells.push_back(cellKey(ix, iy));
+    }
+  }
+  return cells;
+}
+
+bool boxesTouch(std::int64_t ax0, std::int64_t ay0, std::int64_t ax1, std::int64_t ay1,
+                std::int64_t bx0, std::int64_t by0, std::int64_t bx1, std::int64_t by1) {
+  return ax0 <= bx1 + 1 && bx0 <= ax1 + 1 && ay0 <= by1 + 1 && by0 <= ay1 + 1;
+}
+
+}  // namespace
+
+SurfaceMap::SurfaceMap(const SurfaceMapOptions& options) : options_(options) { validate(options_); }
+
+void SurfaceMap::reset() { entries_.clear(); }
+
+void SurfaceMap::observe(Entry& entry, const HorizontalPlane& plane,
+                         const std::vector<std::uint64_t>& cells, double stamp) {
+  // Weighted by the observed area: a glimpse of a table's corner moves its height less than a
+  // full view does.
+  const double w = std::max(plane.area, options_.cell * options_.cell);
+  entry.weight += w;
+  entry.height_sum += w * plane.height;
+  entry.normal_sum += w * plane.normal;
+  entry.centroid_sum += w * plane.centroid;
+  for (std::uint64_t c : cells) {
+    if (!entry.cells.insert(c).second) continue;
+    const std::int64_t x = cellX(c), y = cellY(c);
+    if (entry.x1 < entry.x0) {
+      entry.x0 = entry.x1 = x;
+      entry.y0 = entry.y1 = y;
+    } else {
+      entry.x0 = std::min(entry.x0, x), entry.x1 = std::max(entry.x1, x);
+      entry.y0 = std::min(entry.y0, y), entry.y1 = std::max(entry.y1, y);
+    }
+  }
+  if (entry.last_seen != stamp || entry.frames == 0) ++entry.frames;
+  entry.last_seen = stamp;
+  entry.last = plane;
+}
+
+void SurfaceMap::absorb(Entry& into, Entry& from) {
+  into.weight += from.weight;
+  into.height_sum += from.height_sum;
+  into.normal_sum += from.normal_sum;
+  into.centroid_sum += from.centroid_sum;
+  into.cells.insert(from.cells.begin(), from.cells.end());
+  if (from.x1 >= from.x0) {
+    if (into.x1 < into.x0) {
+      into.x0 = from.x0, into.x1 = from.x1, into.y0 = from.y0, into.y1 = from.y1;
+    } else {
+      into.x0 = std::min(into.x0, from.x0), into.x1 = std::max(into.x1, from.x1);
+      into.y0 = std::min(into.y0, from.y0), into.y1 = std::max(into.y1, from.y1);
+    }
+  }
+  into.frames = std::max(into.frames, from.frames);
+  into.first_seen = std::min(into.first_seen, from.first_seen);
+  into.last_seen = std::max(into.last_seen, from.last_seen);
+}
+
+std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes, double stamp,
+                                           const std::optional<Eigen::Vector3d>& viewpoint) {
+  std::vector<TrackEvent> events;
+  const double cell = options_.cell;
+  // Larger planes first: a floor or a table claims its entry before a fragment of it does.
+  std::vector<std::size_t> order(planes.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return planes[a].area > planes[b].area; });
+  std::vector<std::vector<std::uint64_t>> plane_cells(planes.size());
+  std::vector<std::uint8_t> seen(entries_.size(), 0);
+  for (std::size_t k : order) {
+    HorizontalPlane& plane = planes[k];
+    std::vector<std::uint64_t>& cells = plane_cells[k];
+    cells = cellsOf(plane, cell);
+    if (cells.empty()) {
+      // No outline, no hull, or out of range: the plane keeps a fresh id the map does not hold.
+      plane.id = next_id_++;
+      plane.age = 1;
+      plane.last_seen = stamp;
+      events.push_back({TrackEvent::Kind::kNew, plane.id});
+      continue;
+    }
+    std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (std::uint64_t c : cells) {
+      x0 = std::min(x0, cellX(c)), x1 = std::max(x1, cellX(c));
+      y0 = std::min(y0, cellY(c)), y1 = std::max(y1, cellY(c));
+    }
+    // The entries at this height whose cells overlap or touch the plane's (8-neighbourhood).
+    std::vector<std::size_t> matches;
+    std::vector<std::uint8_t> overlapping(entries_.size(), 0);
+    for (std::size_t e = 0; e < entries_.size(); ++e) {
+      const Entry& entry = entries_[e];
+      if (entry.weight == 0 ||  // merged into another this frame
+          std::fabs(entry.height() - plane.height) > options_.max_height_change ||
+          !boxesTouch(x0, y0, x1, y1, entry.x0, entry.y0, entry.x1, entry.y1)) {
+        continue;
+      }
+      // Seen again where it was seen before: within max_height_change (a pose's error). Only
+      // beside it (a new part of it coming into view): within max_extension_height_change, so
+      // that a book lying in the hole it makes in a table's extent stays a surface of its own.
+      const bool extension_height =
+          std::fabs(entry.height() - plane.height) <= options_.max_extension_height_change;
+      std::size_t common = 0;
+      bool touches = false;
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        common += entry.cells.count(cells[i]);
+        const std::int64_t cx = cellX(cells[i]), cy = cellY(cells[i]);
+        for (std::int64_t dy = -1; dy <= 1 && extension_height && !touches; ++dy) {
+          for (std::int64_t dx = -1; dx <= 1 && !touches; ++dx) {
+            touches = entry.cells.count(cellKey(cx + dx, cy + dy)) > 0;
+          }
+        }
+      }
+      // Seen again: a share of the smaller of the two in common (a sliver in common is a
+      // neighbour's edge, not the same surface).
+      const bool overlaps =
+          common > 0 && static_cast<double>(common) >=
+                            options_.min_overlap_share *
+                                static_cast<double>(std::min(cells.size(), entry.cells.size()));
+      // An entry another plane of this frame took is not this one's: a frame's planes keep
+      // distinct ids (a fragment the extraction left apart becomes an entry of its own).
+      if ((overlaps || touches) && !seen[e]) matches.push_back(e);
+      overlapping[e] = overlaps;
+    }
+    if (matches.empty()) {
+      Entry entry;
+      entry.id = next_id_++;
+      entry.first_seen = stamp;
+      observe(entry, plane, cells, stamp);
+      entries_.push_back(std::move(entry));
+      seen.push_back(1);
+      events.push_back({TrackEvent::Kind::kNew, entries_.back().id});
+      plane.id = entries_.back().id;
+      plane.age = 1;
+      plane.last_seen = stamp;
+      continue;
+    }
+    // The plane is the entry it overlaps whose height is nearest its own, or, overlapping none,
+    // the nearest it continues. The entries it overlaps at that entry's height (within
+    // max_extension_height_change) are one surface with it, which it shows: the oldest of them
+    // (ids rise with age) subsumes the others. Entries it merely touches, or overlaps at
+    // another height (a book on the table, 5 cm up), stay apart.
+    auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - plane.height); };
+    const std::size_t primary =
+        *std::min_element(matches.begin(), matches.end(), [&](std::size_t a, std::size_t b) {
+          return overlapping[a] != overlapping[b] ? overlapping[a] > overlapping[b]
+                                                  : height_gap(a) < height_gap(b);
+        });
+    std::vector<std::size_t> group = {primary};
+    for (std::size_t e : matches) {
+      if (e != primary && overlapping[e] &&
+          std::fabs(entries_[e].height() - entries_[primary].height()) <=
+              options_.max_extension_height_change) {
+        group.push_back(e);
+      }
+    }
+    const std::size_t chosen = *std::min_element(
+        group.begin(), group.end(),
+        [&](std::size_t a, std::size_t b) { return entries_[a].id < entries_[b].id; });
+    Entry& target = entries_[chosen];
+    for (std::size_t e : group) {
+      if (e == chosen) continue;
+      absorb(target, entries_[e]);
+      events.push_back({TrackEvent::Kind::kMerged, entries_[e].id, target.id});
+      entries_[e].weight = 0;  // removed below
+    }
+    observe(target, plane, cells, stamp);
+    seen[chosen] = 1;
+    plane.id = target.id;
+    plane.age = target.frames;
+    plane.last_seen = stamp;
+  }
+  // Entries not seen whose space was seen empty: a sensor above the entry saw a lower surface
+  // through the cells the entry occupies (a box lifted off the table, the table now seen where
+  // its top was).
+  if (viewpoint) {
+    for (std::size_t e = 0; e < entries_.size(); ++e) {
+      Entry& entry = entries_[e];
+      if (seen[e] || entry.weight == 0) continue;
+      const double h = entry.height();
+      if (viewpoint->z() <= h + options_.max_height_change) continue;  // looking from below
+      std::unordered_set<std::uint64_t> through;
+      for (std::size_t k = 0; k < planes.size(); ++k) {
+        const double lower = planes[k].height;
+        if (lower >= h - options_.max_height_change) continue;
+        // Where the ray from the sensor to a cell of the lower plane crosses the entry's height.
+        const double t = (viewpoint->z() - h) / (viewpoint->z() - lower);
+        for (std::uint64_t c : plane_cells[k]) {
+          const double x = viewpoint->x() + t * ((cellX(c) + 0.5) * cell - viewpoint->x());
+          const double y = viewpoint->y() + t * ((cellY(c) + 0.5) * cell - viewpoint->y());
+          const auto ix = static_cast<std::int64_t>(std::floor(x / cell));
+          const auto iy = static_cast<std::int64_t>(std::floor(y / cell));
+          if (ix < entry.x0 || ix > entry.x1 || iy < entry.y0 || iy > entry.y1) continue;
+          const std::uint64_t key = cellKey(ix, iy);
+          if (entry.cells.count(key)) through.insert(key);
+        }
+      }
+      // Only the entry's inner cells count: along its rim a cell is partly the surface below
+      // (the table around a book), and the rays to it pass the rim at the entry's height.
+      std::size_t inner = 0, inner_through = 0;
+      for (std::uint64_t c : entry.cells) {
+        bool rim = false;
+        for (std::int64_t dy = -1; dy <= 1 && !rim; ++dy) {
+          for (std::int64_t dx = -1; dx <= 1 && !rim; ++dx) {
+            rim = !entry.cells.count(cellKey(cellX(c) + dx, cellY(c) + dy));
+          }
+        }
+        if (rim) continue;
+        ++inner;
+        inner_through += through.count(c);
+      }
+      if (inner > 0 && static_cast<double>(inner_through) >=
+                           options_.emptied_share * static_cast<double>(inner)) {
+        events.push_back({TrackEvent::Kind::kEnded, entry.id});
+        entry.weight = 0;
+      }
+    }
+  }
+  entries_.erase(std::remove_if(entries_.begin(), entries_.end(),
+                                [](const Entry& entry) { return entry.weight == 0; }),
+                 entries_.end());
+  // Bounded memory: the entries seen longest ago go first.
+  while (entries_.size() > options_.max_entries) {
+    auto oldest =
+        std::min_element(entries_.begin(), entries_.end(),
+                         [](const Entry& a, const Entry& b) { return a.last_seen < b.last_seen; });
+    events.push_back({TrackEvent::Kind::kEnded, oldest->id});
+    entries_.erase(oldest);
+  }
+  return events;
+}
+
+std::vector<HorizontalPlane> SurfaceMap::surfaces() const {
+  std::vector<HorizontalPlane> out;
+  out.reserve(entries_.size());
+  for (const Entry& entry : entries_) {
+    HorizontalPlane p = entry.last;
+    p.id = entry.id;
+    p.height = entry.height();
+    if (entry.normal_sum.norm() > 0) p.normal = entry.normal_sum.normalized();
+    p.tilt = std::acos(std::min(1.0, std::fabs(p.normal.z())));
+    p.centroid = entry.centroid_sum / entry.weight;
+    p.area = static_cast<double>(entry.cells.size()) * options_.cell * options_.cell;
+    p.bbox = {entry.x0 * options_.cell, entry.y0 * options_.cell, (entry.x1 + 1) * options_.cell,
+              (entry.y1 + 1) * options_.cell};
+    std::vector<std::pair<std::int64_t, std::int64_t>> cells;
+    cells.reserve(entry.cells.size());
+    for (std::uint64_t c : entry.cells) cells.emplace_back(cellX(c), cellY(c));
+    p.outline.clear();
+    std::vector<Eigen::Vector2d> corners;
+    for (const auto& ring : traceOutline(std::move(cells), Eigen::Vector2d::Zero(), options_.cell,
+                                         options_.cell / 2)) {
+      std::vector<Eigen::Vector3d> ring3;
+      for (const Eigen::Vector2d& q : ring) {
+        ring3.emplace_back(q.x(), q.y(), p.height);
+        corners.push_back(q);
+      }
+      p.outline.push_back(std::move(ring3));
+    }
+    p.hull.clear();
+    for (const Eigen::Vector2d& q : convexHull2D(std::move(corners))) {
+      p.hull.emplace_back(q.x(), q.y(), p.height);
+    }
+    p.age = entry.frames;
+    p.last_seen = entry.last_seen;
+    p.split_from = -1;
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace hope

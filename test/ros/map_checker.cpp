@@ -1,0 +1,109 @@
+// The rostest side of the surface map: while the demo room bag replays with tf into odom (a
+// fixed frame) and ~surface_map on, every surface of the room is one entry of the latched ~map
+// at its height, the table keeps one id in every PlaneArray, and ~reset_map empties the map,
+// which then starts afresh with ids never given before. Parameters (private): hope_ns (/hope),
+// timeout (60 s).
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "checker_wait.h"
+#include "hope/PlaneArray.h"
+#include "hope/ResetMap.h"
+
+namespace {
+
+struct Received {
+  std::mutex mutex;
+  std::vector<hope::PlaneArray> arrays;
+  std::vector<hope::PlaneArray> maps;
+};
+Received received;
+
+// Waits until `done()` (under received.mutex) or the timeout; false on timeout.
+template <class Done>
+bool waitFor(Done done, double timeout) {
+  return hope_test::waitFor(received.mutex, done, timeout);
+}
+
+// demoRoom()'s level surfaces (world = odom heights): floor, two stair treads, the cabinet, the
+// table, the book on it.
+const double kSurfaces[] = {0.0, 0.17, 0.34, 0.45, 0.75, 0.80};
+
+TEST(HopeMap, EachSurfaceIsOneEntryAndKeepsItsIdUntilTheMapIsReset) {
+  ros::NodeHandle nh, pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  ros::Subscriber planes =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(received.mutex);
+                                           received.arrays.push_back(*m);
+                                         }));
+  ros::Subscriber map =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/map", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(received.mutex);
+                                           received.maps.push_back(*m);
+                                         }));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  // Ten frames: the bag loops over 5 frames of a sliding camera.
+  ASSERT_TRUE(
+      waitFor([] { return received.arrays.size() >= 10 && !received.maps.empty(); }, timeout))
+      << "no PlaneArrays on " << hope_ns << "/planes or no map on " << hope_ns << "/map";
+  int table = -1, largest_id = -1;
+  {
+    std::lock_guard<std::mutex> lock(received.mutex);
+    for (std::size_t f = 1; f < received.arrays.size(); ++f) {
+      for (const hope::Plane& p : received.arrays[f].planes) {
+        largest_id = std::max(largest_id, p.id);
+        if (std::abs(p.height - 0.75) > 0.015) continue;
+        if (table < 0) table = p.id;
+        EXPECT_EQ(p.id, table) << "the table changed its id in frame " << f;
+      }
+    }
+    ASSERT_GE(table, 0) << "no table at 0.75 m";
+    const hope::PlaneArray& latest = received.maps.back();
+    EXPECT_EQ(latest.header.frame_id, "odom");
+    for (double h : kSurfaces) {
+      int entries = 0;
+      for (const hope::Plane& p : latest.planes) entries += std::abs(p.height - h) < 0.02 ? 1 : 0;
+      EXPECT_EQ(entries, 1) << "surface at " << h << " m: " << entries << " map entries";
+    }
+    for (const hope::Plane& p : latest.planes) {
+      EXPECT_FALSE(p.outline.empty()) << "entry " << p.id;
+      EXPECT_GE(p.age, 1);
+      largest_id = std::max(largest_id, p.id);
+    }
+  }
+
+  hope::ResetMap reset;
+  ASSERT_TRUE(ros::service::call(hope_ns + "/reset_map", reset));
+  EXPECT_GE(reset.response.removed, 6u);
+  // The empty map is published at once, then the next clouds fill it again with new ids.
+  ASSERT_TRUE(waitFor([] { return !received.maps.empty() && received.maps.back().planes.empty(); },
+                      timeout))
+      << "no empty map after ~reset_map";
+  ASSERT_TRUE(waitFor([] { return !received.maps.back().planes.empty(); }, timeout));
+  std::lock_guard<std::mutex> lock(received.mutex);
+  for (const hope::Plane& p : received.maps.back().planes) {
+    EXPECT_GT(p.id, largest_id) << "an id given again after the reset";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "hope_map_checker");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}

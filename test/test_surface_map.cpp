@@ -1,0 +1,209 @@
+// The map of the surfaces (surface_map.h) on frames whose answer is known by construction:
+// level rectangles (with holes where something stands) in a fixed frame, as a moving sensor
+// would report them.
+#include <algorithm>
+#include <array>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "hope/surface_map.h"
+
+namespace hope {
+namespace {
+
+using Ring = std::vector<Eigen::Vector3d>;
+
+Ring rectangle(double x0, double y0, double x1, double y1, double z, bool hole = false) {
+  Ring ring = {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}};
+  if (hole) std::reverse(ring.begin(), ring.end());
+  return ring;
+}
+
+// A level plane [x0, x1] × [y0, y1] at z, less the `holes` (xy rectangles x0 y0 x1 y1).
+HorizontalPlane plane(double x0, double y0, double x1, double y1, double z,
+                      const std::vector<std::array<double, 4>>& holes = {}) {
+  HorizontalPlane p;
+  p.height = z;
+  p.bbox = {x0, y0, x1, y1};
+  p.centroid = Eigen::Vector3d((x0 + x1) / 2, (y0 + y1) / 2, z);
+  p.area = (x1 - x0) * (y1 - y0);
+  p.outline.push_back(rectangle(x0, y0, x1, y1, z));
+  for (const auto& h : holes) {
+    p.outline.push_back(rectangle(h[0], h[1], h[2], h[3], z, true));
+    p.area -= (h[2] - h[0]) * (h[3] - h[1]);
+  }
+  p.hull = p.outline.front();
+  return p;
+}
+
+const HorizontalPlane* surfaceWithId(const std::vector<HorizontalPlane>& surfaces, int id) {
+  for (const auto& s : surfaces) {
+    if (s.id == id) return &s;
+  }
+  return nullptr;
+}
+
+bool hasEvent(const std::vector<TrackEvent>& events, TrackEvent::Kind kind, int id,
+              int other = -1) {
+  for (const auto& e : events) {
+    if (e.kind == kind && e.id == id && (other < 0 || e.other_id == other)) return true;
+  }
+  return false;
+}
+
+const Eigen::Vector3d kEye(0.6, -1.5, 1.6);  // a sensor in front of the table, above it
+
+// A table seen in its left half, out of view for 100 frames (the sensor looks at the floor
+// elsewhere), then seen in its right half: one id, and the map holds the whole table.
+TEST(SurfaceMap, ATableOutOfViewFor100FramesKeepsItsIdAndItsWholeExtent) {
+  SurfaceMap map;
+  int table = -1, floor = -1;
+  double stamp = 0;
+  for (int f = 0; f < 10; ++f, stamp += 0.1) {
+    std::vector<HorizontalPlane> frame = {plane(-1, -1, 0.6, 2, 0), plane(0, 0, 0.6, 0.8, 0.75)};
+    map.update(frame, stamp, kEye);
+    if (f == 0) floor = frame[0].id, table = frame[1].id;
+    EXPECT_EQ(frame[1].id, table);
+  }
+  for (int f = 0; f < 100; ++f, stamp += 0.1) {
+    std::vector<HorizontalPlane> frame = {plane(3, -1, 5, 2, 0)};
+    map.update(frame, stamp, Eigen::Vector3d(4, -1.5, 1.6));
+  }
+  for (int f = 0; f < 5; ++f, stamp += 0.1) {
+    std::vector<HorizontalPlane> frame = {plane(0.6, -1, 2, 2, 0), plane(0.6, 0, 1.2, 0.8, 0.75)};
+    map.update(frame, stamp, kEye);
+    EXPECT_EQ(frame[1].id, table) << "frame " << f << " after 100 away";
+    EXPECT_EQ(frame[0].id, floor);
+  }
+  const std::vector<HorizontalPlane> surfaces = map.surfaces();
+  const HorizontalPlane* t = surfaceWithId(surfaces, table);
+  ASSERT_NE(t, nullptr);
+  EXPECT_NEAR(t->area, 1.2 * 0.8, 0.05);  // both halves, to a row of 5 cm cells
+  EXPECT_NEAR(t->bbox[0], 0.0, 0.051);
+  EXPECT_NEAR(t->bbox[2], 1.2, 0.051);
+  EXPECT_NEAR(t->height, 0.75, 1e-9);
+  EXPECT_EQ(t->age, 15);  // frames seen in
+}
+
+// A box on the table (its top a plane at 0.95 m, a hole in the table where it and its shadow
+// from the sensor above are), then lifted off: the table is seen where the box stood, so the
+// box's entry is dropped with an event. The same box merely not reported (the table still
+// shows the hole: nothing seen through where it was) stays.
+TEST(SurfaceMap, ABoxTakenOffTheTableIsDroppedWhenItsSpaceIsSeenEmpty) {
+  const Eigen::Vector3d eye(0.5, 0.0, 2.0);
+  const std::array<double, 4> box = {0.4, 0.3, 0.6, 0.5};
+  // The box's top seen from the eye hides [0.381, 0.619] × [0.357, 0.595] of the table.
+  const std::array<double, 4> hidden_table = {0.38, 0.3, 0.62, 0.6};
+  SurfaceMap map, unseen_map;
+  int box_id = -1, table = -1;
+  double stamp = 0;
+  for (int f = 0; f < 5; ++f, stamp += 0.1) {
+    std::vector<HorizontalPlane> frame = {plane(0, 0, 1.2, 0.8, 0.75, {hidden_table}),
+                                          plane(box[0], box[1], box[2], box[3], 0.95)};
+    std::vector<HorizontalPlane> copy = frame;
+    map.update(frame, stamp, eye);
+    unseen_map.update(copy, stamp, eye);
+    table = frame[0].id, box_id = frame[1].id;
+  }
+  ASSERT_NE(box_id, table);
+  // Lifted off: the table whole.
+  std::vector<HorizontalPlane> emptied = {plane(0, 0, 1.2, 0.8, 0.75)};
+  const std::vector<TrackEvent> events = map.update(emptied, stamp, eye);
+  EXPECT_TRUE(hasEvent(events, TrackEvent::Kind::kEnded, box_id));
+  EXPECT_EQ(emptied[0].id, table);
+  EXPECT_EQ(surfaceWithId(map.surfaces(), box_id), nullptr);
+  ASSERT_NE(surfaceWithId(map.surfaces(), table), nullptr);
+  // Not seen, but nothing seen through it either (the hole is still there): kept.
+  std::vector<HorizontalPlane> hidden = {plane(0, 0, 1.2, 0.8, 0.75, {hidden_table})};
+  const std::vector<TrackEvent> kept = unseen_map.update(hidden, stamp, eye);
+  EXPECT_FALSE(hasEvent(kept, TrackEvent::Kind::kEnded, box_id));
+  EXPECT_NE(surfaceWithId(unseen_map.surfaces(), box_id), nullptr);
+}
+
+// A table seen first in one half, then in the other with the middle unseen (two entries), then
+// whole: the younger entry is subsumed by the older, whose id the table keeps from then on.
+TEST(SurfaceMap, TwoHalvesOfATableThatLaterMeetMergeIntoTheOlderId) {
+  SurfaceMap map;
+  double stamp = 0;
+  std::vector<HorizontalPlane> a = {plane(0, 0, 0.5, 0.8, 0.75)};
+  map.update(a, stamp += 0.1, kEye);
+  std::vector<HorizontalPlane> b = {plane(0.8, 0, 1.3, 0.8, 0.75)};
+  map.update(b, stamp += 0.1, kEye);
+  ASSERT_NE(a[0].id, b[0].id) << "a 30 cm gap: two surfaces as far as anyone knows";
+  EXPECT_EQ(map.size(), 2u);
+  std::vector<HorizontalPlane> whole = {plane(0, 0, 1.3, 0.8, 0.75)};
+  const std::vector<TrackEvent> events = map.update(whole, stamp += 0.1, kEye);
+  EXPECT_EQ(whole[0].id, a[0].id);
+  EXPECT_TRUE(hasEvent(events, TrackEvent::Kind::kMerged, b[0].id, a[0].id));
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_NEAR(map.surfaces()[0].area, 1.3 * 0.8, 0.05);
+  std::vector<HorizontalPlane> again = {plane(0.8, 0, 1.3, 0.8, 0.75)};
+  map.update(again, stamp += 0.1, kEye);
+  EXPECT_EQ(again[0].id, a[0].id);
+}
+
+// Surfaces at other heights are other entries even where they overlap in xy (a shelf above a
+// table), and a height within max_height_change of an entry is that entry (a pose's error).
+TEST(SurfaceMap, HeightSeparatesSurfacesAndItsNoiseDoesNot) {
+  SurfaceMap map;
+  std::vector<HorizontalPlane> frame = {plane(0, 0, 1, 0.5, 0.75), plane(0, 0, 1, 0.5, 1.2)};
+  map.update(frame, 0.1, kEye);
+  EXPECT_NE(frame[0].id, frame[1].id);
+  std::vector<HorizontalPlane> noisy = {plane(0.02, 0, 1, 0.5, 0.78), plane(0, 0.02, 1, 0.5, 1.17)};
+  map.update(noisy, 0.2, kEye);
+  EXPECT_EQ(noisy[0].id, frame[0].id);
+  EXPECT_EQ(noisy[1].id, frame[1].id);
+  EXPECT_EQ(map.size(), 2u);
+  // A book 5 cm high lying on the table, in the hole it leaves in the table's extent: beside
+  // the table, not over it, and above r_z: a surface of its own, frame after frame.
+  SurfaceMap table_map;
+  for (int f = 0; f < 3; ++f) {
+    std::vector<HorizontalPlane> seen = {plane(0, 0, 1.2, 0.8, 0.75, {{0.4, 0.3, 0.65, 0.5}}),
+                                         plane(0.4, 0.3, 0.65, 0.5, 0.80)};
+    table_map.update(seen, 0.1 * (f + 1), kEye);
+    EXPECT_NE(seen[0].id, seen[1].id) << "frame " << f;
+  }
+  EXPECT_EQ(table_map.size(), 2u);
+}
+
+// At most max_entries: the entry seen longest ago goes, with an event; ids are never reused.
+TEST(SurfaceMap, MemoryIsBoundedByDroppingTheEntrySeenLongestAgo) {
+  SurfaceMapOptions options;
+  options.max_entries = 3;
+  SurfaceMap map(options);
+  std::vector<int> ids;
+  std::vector<TrackEvent> last;
+  for (int k = 0; k < 4; ++k) {
+    std::vector<HorizontalPlane> frame = {plane(3.0 * k, 0, 3.0 * k + 1, 1, 0.7)};
+    last = map.update(frame, 0.1 * (k + 1));
+    ids.push_back(frame[0].id);
+  }
+  EXPECT_EQ(map.size(), 3u);
+  EXPECT_TRUE(hasEvent(last, TrackEvent::Kind::kEnded, ids[0]));
+  EXPECT_EQ(std::set<int>(ids.begin(), ids.end()).size(), 4u);
+}
+
+TEST(SurfaceMap, BadOptionsAreRefusedByName) {
+  SurfaceMapOptions options;
+  options.cell = 0;
+  EXPECT_THROW(
+      {
+        try {
+          SurfaceMap map(options);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("cell"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::invalid_argument);
+  options = SurfaceMapOptions();
+  options.emptied_share = 1.5;
+  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hope

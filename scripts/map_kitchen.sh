@@ -5,7 +5,7 @@
 # planes of frames at most 30 frames apart, heights within 3 cm, boxes overlapping >= 30 %), and
 # once more with the window over the whole run (85 frames), since a surface unseen for more than
 # 30 frames counts as a new one in the first, which the map by design does not. Writes
-# docs/map_kitchen.txt and the map's final surfaces (docs/map_kitchen.json).
+# docs/map_kitchen.txt.
 # Usage: scripts/map_kitchen.sh
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -24,7 +24,7 @@ trap 'rm -rf "$tmp"' EXIT
 {
   for mode in paper improved map; do
     extra=()
-    [ "$mode" = map ] && extra=(--map docs/map_kitchen.json)
+    [ "$mode" = map ] && extra=(--map "$tmp/map.json")
     echo "# hope_extract --sequence kitchen_dev --intrinsics \"585 585 320 240\" --tracking $mode"
     "$extract" --sequence "$data/kitchen_dev" --intrinsics "585 585 320 240" --tracking "$mode" \
       --jsonl "$tmp/$mode.jsonl" "${extra[@]}" --quiet

@@ -32,6 +32,7 @@
 #include "hope/evaluation/baselines.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/surface_map.h"
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
@@ -501,6 +502,66 @@ BENCHMARK(BM_Tracking)
     ->Args({0, 2})
     ->Args({1, 2})
     ->Unit(benchmark::kMicrosecond);
+
+// The surface map's update with `range(0)` entries: that many level surfaces of 0.3-1.5 m on 5
+// heights in a 20 x 20 m world, seen 8 at a time (a sensor's view; the 8 nearest a spot that
+// moves through the world), with 2 cm of jitter in height and position. The map holds all of
+// them before timing starts: the cost of a frame against a full map.
+void BM_SurfaceMap(benchmark::State& state) {
+  const int surfaces = static_cast<int>(state.range(0));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> jitter(0.0, 0.02);
+  std::vector<hope::HorizontalPlane> world(static_cast<std::size_t>(surfaces));
+  // On a grid, so that no two surfaces at one height overlap: each its own entry.
+  const int side = static_cast<int>(std::ceil(std::sqrt(surfaces)));
+  for (int k = 0; k < surfaces; ++k) {
+    hope::HorizontalPlane& p = world[static_cast<std::size_t>(k)];
+    const double x = 20.0 * (k % side) / side, y = 20.0 * (k / side) / side;
+    const double w = 0.3 + 1.2 * u(rng) * (20.0 / side - 0.3) / 1.5;
+    const double d = 0.3 + 1.2 * u(rng) * (20.0 / side - 0.3) / 1.5;
+    p.height = 0.4 * (k % 5);
+    p.bbox = {x, y, x + w, y + d};
+    p.area = w * d;
+    p.centroid = Eigen::Vector3d(x + w / 2, y + d / 2, p.height);
+    p.outline = {
+        {{x, y, p.height}, {x + w, y, p.height}, {x + w, y + d, p.height}, {x, y + d, p.height}}};
+  }
+  auto seen = [&](const hope::HorizontalPlane& p) {
+    hope::HorizontalPlane q = p;
+    const double dz = jitter(rng), dx = jitter(rng), dy = jitter(rng);
+    q.translate(Eigen::Vector3d(dx, dy, dz));
+    return q;
+  };
+  hope::SurfaceMap map;
+  std::vector<hope::HorizontalPlane> all;
+  for (const auto& p : world) all.push_back(seen(p));
+  map.update(all, 0.0);
+  std::vector<std::vector<hope::HorizontalPlane>> frames(100);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const Eigen::Vector2d spot(20.0 * u(rng), 20.0 * u(rng));
+    std::vector<std::size_t> order(world.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::partial_sort(order.begin(), order.begin() + std::min<std::size_t>(8, order.size()),
+                      order.end(), [&](std::size_t a, std::size_t b) {
+                        return (world[a].centroid.head<2>() - spot).norm() <
+                               (world[b].centroid.head<2>() - spot).norm();
+                      });
+    for (std::size_t k = 0; k < std::min<std::size_t>(8, order.size()); ++k) {
+      frames[f].push_back(seen(world[order[k]]));
+    }
+  }
+  state.SetLabel(std::to_string(map.size()) + " entries, 8 planes a frame");
+  std::size_t f = 0;
+  std::vector<hope::HorizontalPlane> planes;
+  for (auto _ : state) {
+    planes = frames[f % frames.size()];
+    ++f;
+    benchmark::DoNotOptimize(
+        map.update(planes, static_cast<double>(f), Eigen::Vector3d(10, 10, 3)));
+  }
+}
+BENCHMARK(BM_SurfaceMap)->Arg(200)->Arg(1000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -268,6 +268,16 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
         if (lower >= h - options_.max_height_change) continue;
         // Where the ray from the sensor to a cell of the lower plane crosses the entry's height.
         const double t = (viewpoint->z() - h) / (viewpoint->z() - lower);
+        // The lower plane's box, seen at the entry's height, must meet the entry's box: most
+        // pairs are far apart, and this keeps a frame's cost from growing with the map.
+        const double bx0 = viewpoint->x() + t * (planes[k].bbox[0] - viewpoint->x());
+        const double by0 = viewpoint->y() + t * (planes[k].bbox[1] - viewpoint->y());
+        const double bx1 = viewpoint->x() + t * (planes[k].bbox[2] - viewpoint->x());
+        const double by1 = viewpoint->y() + t * (planes[k].bbox[3] - viewpoint->y());
+        if (bx1 < entry.x0 * cell || bx0 > (entry.x1 + 1) * cell || by1 < entry.y0 * cell ||
+            by0 > (entry.y1 + 1) * cell) {
+          continue;
+        }
         for (std::uint64_t c : plane_cells[k]) {
           const double x = viewpoint->x() + t * ((cellX(c) + 0.5) * cell - viewpoint->x());
           const double y = viewpoint->y() + t * ((cellY(c) + 0.5) * cell - viewpoint->y());
@@ -278,6 +288,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
           if (entry.cells.count(key)) through.insert(key);
         }
       }
+      if (through.empty()) continue;  // the usual case: nothing seen through it
       // Only the entry's inner cells count: along its rim a cell is partly the surface below
       // (the table around a book), and the rays to it pass the rim at the entry's height.
       std::size_t inner = 0, inner_through = 0;

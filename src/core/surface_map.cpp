@@ -171,6 +171,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
     // The entries at this height whose cells overlap or touch the plane's (8-neighbourhood).
     std::vector<std::size_t> matches;
     std::vector<std::uint8_t> overlapping(entries_.size(), 0);
+    std::vector<std::size_t> common_cells(entries_.size(), 0);
     for (std::size_t e = 0; e < entries_.size(); ++e) {
       const Entry& entry = entries_[e];
       if (entry.weight == 0 ||  // merged into another this frame
@@ -204,6 +205,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       // distinct ids (a fragment the extraction left apart becomes an entry of its own).
       if ((overlaps || touches) && !seen[e]) matches.push_back(e);
       overlapping[e] = overlaps;
+      common_cells[e] = common;
     }
     if (matches.empty()) {
       Entry entry;
@@ -218,16 +220,23 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       plane.last_seen = stamp;
       continue;
     }
-    // The plane is the entry it overlaps whose height is nearest its own, or, overlapping none,
-    // the nearest it continues. The entries it overlaps at that entry's height (within
-    // max_extension_height_change) are one surface with it, which it shows: the oldest of them
-    // (ids rise with age) subsumes the others. Entries it merely touches, or overlaps at
-    // another height (a book on the table, 5 cm up), stay apart.
+    // The plane is the entry it has the most cells in common with, or, overlapping none, the
+    // nearest in height it continues. Most cells, not nearest height: a surface's height drifts
+    // by centimetres with the pose and the range it is seen at (a far shelf of the kitchen
+    // sequence read 5 cm apart over 20 frames), so a fragment the extraction once left apart
+    // beside the surface, a few centimetres off, would take the surface's id from then on.
+    // The entries it overlaps at that entry's height (within max_extension_height_change) are
+    // one surface with it, which it shows: the oldest of them (ids rise with age) subsumes the
+    // others. Entries it merely touches, or overlaps at another height (a book on the table,
+    // 5 cm up), stay apart.
     auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - plane.height); };
     const std::size_t primary =
         *std::min_element(matches.begin(), matches.end(), [&](std::size_t a, std::size_t b) {
-          return overlapping[a] != overlapping[b] ? overlapping[a] > overlapping[b]
-                                                  : height_gap(a) < height_gap(b);
+          if (overlapping[a] != overlapping[b]) return overlapping[a] > overlapping[b];
+          if (overlapping[a] && common_cells[a] != common_cells[b]) {
+            return common_cells[a] > common_cells[b];
+          }
+          return height_gap(a) < height_gap(b);
         });
     std::vector<std::size_t> group = {primary};
     for (std::size_t e : matches) {

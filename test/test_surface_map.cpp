@@ -193,6 +193,20 @@ TEST(SurfaceMap, ADriftingSurfaceKeepsItsIdOverAFragmentNearerInHeight) {
   }
 }
 
+// The other side of the same choice: extent is weighed against height. A step 6 cm above a
+// wider one (both entries), then seen a little wider than before and 1.5 cm low (as a plane the
+// extraction blended from two faces reads): it shares more cells with the lower step, 4.5 cm
+// away, but is the upper one, 1.5 cm away.
+TEST(SurfaceMap, HeightIsWeighedAgainstExtentWhenTwoEntriesOverlapAPlane) {
+  SurfaceMap map;
+  std::vector<HorizontalPlane> steps = {plane(0, 0, 0.6, 0.6, 0.10), plane(0.3, 0, 0.6, 0.6, 0.16)};
+  map.update(steps, 0.1, kEye);
+  ASSERT_NE(steps[0].id, steps[1].id);
+  std::vector<HorizontalPlane> blended = {plane(0.2, 0, 0.6, 0.6, 0.145)};
+  map.update(blended, 0.2, kEye);
+  EXPECT_EQ(blended[0].id, steps[1].id);
+}
+
 // At most max_entries: the entry seen longest ago goes, with an event; ids are never reused.
 TEST(SurfaceMap, MemoryIsBoundedByDroppingTheEntrySeenLongestAgo) {
   SurfaceMapOptions options;

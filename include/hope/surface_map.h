@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "hope/params.h"
 #include "hope/plane.h"
 #include "hope/plane_tracker.h"
 
@@ -49,6 +50,10 @@ struct SurfaceMapOptions {
 
 // Throws std::invalid_argument naming the option that is out of range.
 void validate(const SurfaceMapOptions& options);
+
+// The map matched to an extraction's parameters: cells of r_xy, and surfaces the extraction
+// tells apart (r_z) kept apart where they meet.
+SurfaceMapOptions surfaceMapOptionsFor(const Params& params);
 
 class SurfaceMap {
  public:

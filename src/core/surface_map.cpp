@@ -33,6 +33,13 @@ void validate(const SurfaceMapOptions& options) {
           "emptied_share = " + std::to_string(options.emptied_share) + " is out of range (0, 1]");
 }
 
+SurfaceMapOptions surfaceMapOptionsFor(const Params& params) {
+  SurfaceMapOptions options;
+  options.cell = params.r_xy;
+  options.max_extension_height_change = std::min(params.r_z, options.max_height_change);
+  return options;
+}
+
 namespace {
 
 // A cell (ix, iy) as one key: 32 bits each, offset so that negative indices fit.
@@ -45,6 +52,10 @@ std::int64_t cellX(std::uint64_t key) { return static_cast<std::int64_t>(key >> 
 std::int64_t cellY(std::uint64_t key) {
   return static_cast<std::int64_t>(key & 0xffffffffu) - kOffset;
 }
+
+// What a height difference of max_extension_height_change costs an entry claiming a plane,
+// in shares of the plane's cells (see the primary's choice in update()).
+constexpr double kHeightPenalty = 0.25;
 
 // A plane farther out than this from the frame's origin is not mapped (±100 km at 5 cm cells
 // stays far inside the keys' 32 bits).
@@ -220,24 +231,31 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       plane.last_seen = stamp;
       continue;
     }
-    // The plane is the entry it has the most cells in common with, or, overlapping none, the
-    // nearest in height it continues. Most cells, not nearest height: a surface's height drifts
-    // by centimetres with the pose and the range it is seen at (a far shelf of the kitchen
-    // sequence read 5 cm apart over 20 frames), so a fragment the extraction once left apart
-    // beside the surface, a few centimetres off, would take the surface's id from then on.
+    // The plane is the entry it overlaps that explains it best: the share of the plane's cells
+    // the entry holds, less a quarter for every max_extension_height_change (r_z) between their
+    // heights; overlapping none, the entry nearest in height it continues. Not the nearest in
+    // height alone: a surface's height drifts by centimetres with the pose and the range it is
+    // seen at (a far shelf of the kitchen sequence read 5 cm apart over 20 frames), and a
+    // fragment the extraction once left beside it, a little lower, would take the surface's
+    // id from then on. Not the most cells alone: a plane the extraction blended from several
+    // faces of an object 2 cm apart would take every face's id. Kitchen sequence (IDF1 per
+    // observation): nearest height 75.6 %, most cells 80.4 %, this 79.9 %; the synthetic
+    // sequences' paper's accuracy: 99.39 %, 99.04 %, 99.50 % (scripts/map_kitchen.sh,
+    // scripts/evaluate_tracking.sh).
+    auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - plane.height); };
+    auto explains = [&](std::size_t e) {
+      return static_cast<double>(common_cells[e]) / static_cast<double>(cells.size()) -
+             kHeightPenalty * height_gap(e) / options_.max_extension_height_change;
+    };
+    const std::size_t primary =
+        *std::min_element(matches.begin(), matches.end(), [&](std::size_t a, std::size_t b) {
+          if (overlapping[a] != overlapping[b]) return overlapping[a] > overlapping[b];
+          return overlapping[a] ? explains(a) > explains(b) : height_gap(a) < height_gap(b);
+        });
     // The entries it overlaps at that entry's height (within max_extension_height_change) are
     // one surface with it, which it shows: the oldest of them (ids rise with age) subsumes the
     // others. Entries it merely touches, or overlaps at another height (a book on the table,
     // 5 cm up), stay apart.
-    auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - plane.height); };
-    const std::size_t primary =
-        *std::min_element(matches.begin(), matches.end(), [&](std::size_t a, std::size_t b) {
-          if (overlapping[a] != overlapping[b]) return overlapping[a] > overlapping[b];
-          if (overlapping[a] && common_cells[a] != common_cells[b]) {
-            return common_cells[a] > common_cells[b];
-          }
-          return height_gap(a) < height_gap(b);
-        });
     std::vector<std::size_t> group = {primary};
     for (std::size_t e : matches) {
       if (e != primary && overlapping[e] &&

@@ -494,11 +494,7 @@ int runSequence(const Options& o) {
   hope::TrackerOptions tracker_options;
   if (!use_map) tracker_options.mode = hope::trackingModeFromString(tracking);
   hope::PlaneTracker tracker(tracker_options);
-  hope::SurfaceMapOptions map_options;
-  map_options.cell = params.r_xy;
-  // Surfaces the extraction tells apart (r_z) stay apart where they meet.
-  map_options.max_extension_height_change = std::min(params.r_z, map_options.max_height_change);
-  hope::SurfaceMap surface_map(map_options);
+  hope::SurfaceMap surface_map(hope::surfaceMapOptionsFor(params));
   const hope::Orientation fixed_orientation = orientation(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);

@@ -17,6 +17,7 @@
 #include "hope/evaluation/tracking_metrics.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/surface_map.h"
 #include "hope/synthetic/sequences.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/output_file.h"
@@ -137,11 +138,15 @@ std::set<int> visibleSurfaces(const cv::Mat& labels, int min_pixels) {
   return visible;
 }
 
+// Ids from the tracker in `mode`, or, with `map` set, from a SurfaceMap (pose sequences
+// only: the map needs the fixed frame and the camera's position in it).
 Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& stamps,
-          hope::TrackingMode mode) {
+          hope::TrackingMode mode, const std::vector<Eigen::Vector3d>* map_viewpoints = nullptr,
+          const hope::SurfaceMapOptions& map_options = hope::SurfaceMapOptions()) {
   hope::TrackerOptions options;
   options.mode = mode;
   hope::PlaneTracker tracker(options);
+  hope::SurfaceMap map(map_options);
   hope::evaluation::IdentityScorer scorer;
   hope::evaluation::IdentityF1 idf1;
   std::set<int> floor_ids, table_ids;
@@ -150,7 +155,11 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
   for (std::size_t f = 0; f < frames.size(); ++f) {
     std::vector<hope::HorizontalPlane> planes_now = frames[f].planes;
     const auto start = std::chrono::steady_clock::now();
-    tracker.update(planes_now, stamps[f]);
+    if (map_viewpoints) {
+      map.update(planes_now, stamps[f], (*map_viewpoints)[f]);
+    } else {
+      tracker.update(planes_now, stamps[f]);
+    }
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<int> ids;
     for (const auto& p : planes_now) ids.push_back(p.id);
@@ -198,6 +207,7 @@ int run(const hope::tools::ParsedArgs& args) {
   paper_params.merge_fragments = false;  // the paper: no merge, no bridging
   paper_params.bridge_scan_gaps = false;
   hope::Extractor merging(params), paper_extractor(paper_params);
+  const hope::SurfaceMapOptions map_options = hope::surfaceMapOptionsFor(params);  // as hope_extract
   const hope::synthetic::TrackingScene scene;
   std::vector<Row> rows;
   std::map<std::string, std::string> descriptions;
@@ -207,6 +217,7 @@ int run(const hope::tools::ParsedArgs& args) {
     // [source][merge]: source 0 pose, 1 gravity; merge 0 off (the paper), 1 on.
     std::vector<FramePlanes> extracted[2][2];
     std::vector<double> stamps;
+    std::vector<Eigen::Vector3d> viewpoints;  // the camera's position in the world
     for (std::size_t f = 0; f < sequence.frames.size(); ++f) {
       const auto& frame = sequence.frames[f];
       hope::synthetic::SensorNoise noise;
@@ -217,6 +228,7 @@ int run(const hope::tools::ParsedArgs& args) {
                                    rendered.labels.end<std::int32_t>());
       const std::set<int> visible = visibleSurfaces(rendered.labels, 500);
       stamps.push_back(frame.stamp);
+      viewpoints.push_back(frame.camera.pose.translation());
       for (int source = 0; source < 2; ++source) {
         const hope::Orientation orientation =
             source == 0 ? hope::Orientation::fromTransform(frame.camera.pose)
@@ -259,6 +271,15 @@ int run(const hope::tools::ParsedArgs& args) {
         row.mode = variant.name;
         row.sequence = name;
         row.orientation = source == 0 ? "pose" : "gravity";
+        rows.push_back(row);
+      }
+      if (source == 0) {
+        // The surface map on the same planes, as hope_extract --sequence keeps it with poses.
+        Row row = score(extracted[source][1], stamps, hope::TrackingMode::kImproved, &viewpoints,
+                        map_options);
+        row.mode = "map + merge";
+        row.sequence = name;
+        row.orientation = "pose";
         rows.push_back(row);
       }
     }

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Plane ids on the real kitchen sequence (../shared/data/kitchen_dev, world poses from its
-# groundtruth.txt): the paper's NNPM, the improved tracker and the surface map (the default with
-# poses), each scored by ../shared/tools/id_accuracy.py --world (surfaces derived from the poses:
-# planes of frames at most 30 frames apart, heights within 3 cm, boxes overlapping >= 30 %), and
-# once more with the window over the whole run (85 frames), since a surface unseen for more than
-# 30 frames counts as a new one in the first, which the map by design does not. Writes
-# docs/map_kitchen.txt.
+# Plane ids and map extents on the real kitchen sequence (../shared/data/kitchen_dev, world poses
+# from its groundtruth.txt): the paper's NNPM, the improved tracker and the surface map (the
+# default with poses), each scored by ../shared/tools/id_accuracy.py --world (surfaces derived
+# from the poses: planes of frames at most 30 frames apart, heights within 3 cm, boxes
+# overlapping >= 30 %), and once more with the window over the whole run (85 frames), since a
+# surface unseen for more than 30 frames counts as a new one in the first, which the map by
+# design does not. Beside them the best any id assignment could reach on the same planes
+# (scripts/id_bound.py), and the map's extents against the points (hope_extract --map-extents).
+# Writes docs/map_kitchen.md; scripts/evaluate_tracking.sh puts it into docs/tracking.md.
 # Usage: scripts/map_kitchen.sh
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -22,14 +24,27 @@ extract=$root/build/devel/lib/hope/hope_extract
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 {
+  echo '```'
   for mode in paper improved map; do
     extra=()
-    [ "$mode" = map ] && extra=(--map "$tmp/map.json")
+    [ "$mode" = map ] && extra=(--map-extents "$tmp/extents.md")
     echo "# hope_extract --sequence kitchen_dev --intrinsics \"585 585 320 240\" --tracking $mode"
     "$extract" --sequence "$data/kitchen_dev" --intrinsics "585 585 320 240" --tracking "$mode" \
-      --jsonl "$tmp/$mode.jsonl" "${extra[@]}" --quiet
+      --jsonl "$tmp/$mode.jsonl" "${extra[@]}" --quiet 2>/dev/null
     echo "  window 30: $(python3 "$scorer" "$tmp/$mode.jsonl" --world)"
     echo "  window 85: $(python3 "$scorer" "$tmp/$mode.jsonl" --world --window 85)"
   done
+  echo "# scripts/id_bound.py on the map's run: the ceiling of any id assignment on these planes"
+  echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl")"
+  echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl" --window 85)"
+  echo '```'
+  echo
+  echo "The map's largest entries: each outline against the union of all points given its id"
+  echo "(\`hope_extract --map-extents\`, 2 cm grid, the points' cells closed over their 8"
+  echo "neighbours so a far floor's sparse rows leave no holes):"
+  echo
+  cat "$tmp/extents.md"
+  echo
   echo "$(nproc) cores; $(date -u +%Y-%m-%dT%H:%M:%SZ); commit $(git rev-parse --short HEAD)"
-} | tee docs/map_kitchen.txt
+} >docs/map_kitchen.md
+cat docs/map_kitchen.md

@@ -26,6 +26,7 @@
 #include "hope/surface_map.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
+#include "hope/tools/map_extents.h"
 #include "hope/tools/output_file.h"
 #include "hope/tools/overlay.h"
 #include "hope/tools/report.h"
@@ -94,6 +95,9 @@ hope::tools::CommandLine commandLine() {
              "grown over frames), improved (default otherwise) or paper (NNPM of §2.5, Eq "
              "11-14)")
       .value("--map", "FILE.json", "with --tracking map: the final map of the surfaces")
+      .value("--map-extents", "FILE.md",
+             "with --tracking map: each entry's outline against the union of all points given "
+             "its id (area ratio, IoU in xy on a 2 cm grid), largest first, as a Markdown table")
       .value("--jsonl", "FILE",
              "one JSON line per frame: {\"stamp\", \"file\", \"planes\": [...], \"events\"}")
       .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp")
@@ -491,6 +495,16 @@ int runSequence(const Options& o) {
     }
     map_file.emplace(o.values.at("--map"));
   }
+  std::optional<hope::tools::OutputFile> extents_file;
+  std::optional<hope::tools::MapExtentCheck> extents;
+  if (o.values.count("--map-extents")) {
+    if (!use_map) {
+      throw std::invalid_argument("--map-extents compares the surface map, which --tracking " +
+                                  tracking + " does not keep");
+    }
+    extents_file.emplace(o.values.at("--map-extents"));
+    extents.emplace();
+  }
   hope::TrackerOptions tracker_options;
   if (!use_map) tracker_options.mode = hope::trackingModeFromString(tracking);
   hope::PlaneTracker tracker(tracker_options);
@@ -616,7 +630,7 @@ int runSequence(const Options& o) {
     if (levelled) level_ms += levelled->time_ms;
     ++processed;
     hope::ExtractOutputs wanted;
-    wanted.point_labels = !overlay_dir.empty();
+    wanted.point_labels = !overlay_dir.empty() || extents;
     hope::Result result = extractor.extract(input.view(), frame_orientation, wanted);
     const auto start = std::chrono::steady_clock::now();
     const std::vector<hope::TrackEvent> events =
@@ -624,6 +638,7 @@ int runSequence(const Options& o) {
                 : tracker.update(result.planes, frame.stamp);
     track_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (extents) extents->addFrame(result, extractor.alignedPoints(), events);
     extract_ms += result.timings.total_ms;
     total_planes += result.planes.size();
     for (const auto& p : result.planes) ids.insert(p.id);
@@ -658,6 +673,12 @@ int runSequence(const Options& o) {
     });
     map_file->commit();
   }
+  if (extents_file) {
+    hope::tools::writeText(*extents_file, [&](std::ostream& out) {
+      out << hope::tools::formatMapExtents(extents->compare(surface_map.surfaces()), 12);
+    });
+    extents_file->commit();
+  }
   summary.print(std::cerr, "hope_extract");
   if (uncorrected > 0) {
     std::cerr << "hope_extract: warning: --level kept the given orientation of " << uncorrected
@@ -687,7 +708,7 @@ int run(const Options& o) {
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only :
        {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
-        "--overlay-dir", "--strict", "--map"}) {
+        "--overlay-dir", "--strict", "--map", "--map-extents"}) {
     if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
     }

@@ -54,7 +54,7 @@ hope::tools::CommandLine commandLine() {
 
 // The head of docs/tracking.md: what is measured and how.
 const char* kPreamble =
-    R"(# Plane identities across frames: paper mode, improved mode, and with fragments merged
+    R"(# Plane identities across frames: paper mode, improved mode, fragments merged, the surface map
 
 Made by `bash scripts/evaluate_tracking.sh` (`hope_track_eval --markdown docs/tracking.md`);
 every figure below comes from that run. Do not edit by hand.
@@ -99,6 +99,10 @@ it explains the frame better), lost planes remembered for 30 frames and moved wi
 scene, merges and splits reported. `improved + merge` (the default of the extractor and the
 nodelet): the improved tracker on planes whose fragments were merged into one surface
 (docs/evaluation.md §5); the other two rows are the paper's one-plane-per-connected-region.
+`map + merge` (pose only: it needs the fixed frame): the surface map (`hope::SurfaceMap`,
+the default of `hope_extract --sequence` with poses) on the merged surfaces: one entry per
+surface for as long as the map lives, extents grown over the frames, no forgetting; its
+µs/frame include growing the extents.
 
 )";
 
@@ -207,7 +211,8 @@ int run(const hope::tools::ParsedArgs& args) {
   paper_params.merge_fragments = false;  // the paper: no merge, no bridging
   paper_params.bridge_scan_gaps = false;
   hope::Extractor merging(params), paper_extractor(paper_params);
-  const hope::SurfaceMapOptions map_options = hope::surfaceMapOptionsFor(params);  // as hope_extract
+  const hope::SurfaceMapOptions map_options =
+      hope::surfaceMapOptionsFor(params);  // as hope_extract
   const hope::synthetic::TrackingScene scene;
   std::vector<Row> rows;
   std::map<std::string, std::string> descriptions;

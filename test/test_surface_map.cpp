@@ -328,5 +328,28 @@ TEST(SurfaceMap, BadOptionsAreRefusedByName) {
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
 }
 
+// Restarted with other options (the nodelet's r_xy changed): the entries are forgotten, the
+// new cell is used, ids are never given twice; bad options change nothing.
+TEST(SurfaceMap, ARestartWithOtherOptionsForgetsTheEntriesButNotTheIds) {
+  SurfaceMap map;
+  std::vector<HorizontalPlane> frame = {plane(0, 0, 1, 0.5, 0.75)};
+  map.update(frame, 0.1, kEye);
+  const int first = frame[0].id;
+  SurfaceMapOptions bad;
+  bad.cell = -1;
+  EXPECT_THROW(map.reset(bad), std::invalid_argument);
+  EXPECT_EQ(map.size(), 1u);
+  EXPECT_DOUBLE_EQ(map.options().cell, SurfaceMapOptions().cell);
+  Params params;
+  params.r_xy = 0.1;
+  map.reset(surfaceMapOptionsFor(params));
+  EXPECT_EQ(map.size(), 0u);
+  EXPECT_DOUBLE_EQ(map.options().cell, 0.1);
+  map.update(frame, 0.2, kEye);
+  EXPECT_GT(frame[0].id, first);
+  ASSERT_EQ(map.surfaces().size(), 1u);
+  EXPECT_NEAR(map.surfaces()[0].area, 0.5, 1e-9);  // 10 × 5 cells of 10 cm
+}
+
 }  // namespace
 }  // namespace hope

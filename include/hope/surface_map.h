@@ -75,6 +75,9 @@ class SurfaceMap {
   const SurfaceMapOptions& options() const { return options_; }
   // Forgets every entry; ids go on from where they were (never reused).
   void reset();
+  // The same, and the map is kept with `options` from now on (validated first: on a bad value
+  // it throws std::invalid_argument and nothing changes).
+  void reset(const SurfaceMapOptions& options);
 
  private:
   struct Entry {

@@ -133,6 +133,12 @@ SurfaceMap::SurfaceMap(const SurfaceMapOptions& options) : options_(options) { v
 
 void SurfaceMap::reset() { entries_.clear(); }
 
+void SurfaceMap::reset(const SurfaceMapOptions& options) {
+  validate(options);
+  options_ = options;
+  entries_.clear();
+}
+
 void SurfaceMap::observe(Entry& entry, const HorizontalPlane& plane,
                          const std::vector<std::uint64_t>& cells, double stamp) {
   // Weighted by the observed area: a glimpse of a table's corner moves its height less than a

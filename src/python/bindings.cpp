@@ -686,7 +686,9 @@ PYBIND11_MODULE(_hope, m) {
           "returns (planes with map ids, events)")
       .def("surfaces", &hope::SurfaceMap::surfaces,
            "the entries as Planes, oldest first, with their grown outlines")
-      .def("reset", &hope::SurfaceMap::reset)
+      .def(
+          "reset", [](hope::SurfaceMap& map) { map.reset(); },
+          "forgets every entry; ids go on (never given twice)")
       .def("__len__", &hope::SurfaceMap::size);
 
   m.def("depth_to_cloud", &depthToCloud, py::arg("depth"), py::arg("intrinsics"),

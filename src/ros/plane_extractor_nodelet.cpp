@@ -632,6 +632,20 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
       if (pending_tracker_.mode != tracker_->options().mode) {
         tracker_ = std::make_unique<hope::PlaneTracker>(pending_tracker_);
       }
+      // The map's cells are r_xy and its extension gate r_z: other values start it afresh
+      // (ids go on, never given twice).
+      const hope::SurfaceMapOptions map_options = hope::surfaceMapOptionsFor(pending_params_);
+      if (map_options.cell != surface_map_->options().cell ||
+          map_options.max_extension_height_change !=
+              surface_map_->options().max_extension_height_change) {
+        if (surface_map_->size() > 0) {
+          NODELET_WARN(
+              "hope: surface map restarted: its cells follow r_xy (%g -> %g m) and r_z; "
+              "%zu surfaces forgotten",
+              surface_map_->options().cell, map_options.cell, surface_map_->size());
+        }
+        surface_map_->reset(map_options);
+      }
       objects_ = pending_objects_;
       placements_ = pending_placements_;
       object_params_ = pending_object_params_;

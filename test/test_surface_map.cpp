@@ -221,17 +221,14 @@ TEST(SurfaceMap, HeightIsWeighedAgainstExtentWhenTwoEntriesOverlapAPlane) {
 // 0.45, table 0.75) is one entry.
 TEST(SurfaceMap, ARobotTurningInPlaceMapsWhatTheSameSceneSeenAtOnceGives) {
   const synthetic::Scene room = synthetic::demoRoom();
-  const Eigen::Vector3d eye(0.0, -0.1, 1.5);
-  const Eigen::Vector3d ahead(2.0, 0.1, -1.15);  // demoCamera()'s target, from the eye
+  const Eigen::Vector3d eye = synthetic::demoCamera().pose.translation();
   Extractor extractor;
   const Params params;
   SurfaceMap turning(surfaceMapOptionsFor(params));
   pcl::PointCloud<pcl::PointXYZ> at_once;
   int frame = 0;
   for (int degrees = -40; degrees <= 40; degrees += 10, ++frame) {
-    const Eigen::Vector3d target =
-        eye + Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d::UnitZ()) * ahead;
-    const synthetic::Camera camera = synthetic::Camera::lookingAt(eye, target);
+    const synthetic::Camera camera = synthetic::demoCameraTurned(degrees * M_PI / 180);
     synthetic::SensorNoise noise;
     noise.seed = static_cast<std::uint32_t>(frame + 1);
     const auto cloud = depthToCloud(room.render(camera, noise).depth, camera.intrinsics, 1.0);

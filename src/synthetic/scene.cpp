@@ -306,8 +306,12 @@ Scene demoRoom() {
   return scene;
 }
 
-Camera demoCamera() {
-  return Camera::lookingAt(Eigen::Vector3d(0.0, -0.1, 1.5), Eigen::Vector3d(2.0, 0.0, 0.35));
+Camera demoCamera() { return demoCameraTurned(0.0); }
+
+Camera demoCameraTurned(double yaw) {
+  const Eigen::Vector3d eye(0.0, -0.1, 1.5), target(2.0, 0.0, 0.35);
+  return Camera::lookingAt(eye,
+                           eye + Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * (target - eye));
 }
 
 }  // namespace synthetic

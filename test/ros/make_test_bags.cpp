@@ -1,7 +1,8 @@
 // Writes the bags the rostests replay, from scenes with known answers: the synthetic demo room
 // seen by a moving depth camera (with tf, an IMU with orientation, and an accelerometer-only
-// IMU), and the TUM freiburg1_desk frame from ../shared/data with its ground-truth pose as tf
-// and as IMU orientation (skipped when the data is absent).
+// IMU), the demo room seen by a camera turning in place (with tf) beside the map the same room
+// seen at once gives, and the TUM freiburg1_desk frame from ../shared/data with its
+// ground-truth pose as tf and as IMU orientation (skipped when the data is absent).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,7 +21,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/depth_image.h"
+#include "hope/extractor.h"
 #include "hope/gravity_alignment.h"
+#include "hope/surface_map.h"
 #include "hope/synthetic/scene.h"
 #include "hope_ros/cloud_conversion.h"
 
@@ -143,6 +146,48 @@ int main(int argc, char** argv) {
       truth << truthLine(100.2 + 0.2 * f, frame, cloud, camera.pose) << "\n";
     }
     bag.close();
+  }
+  {
+    // The demo room seen by a robot turning in place: the camera yawing from -40° to +40° in
+    // 10° steps at 5 Hz, its pose as tf into odom. Beside it, the map the same room seen at
+    // once gives (every view's points in odom in one cloud, one extraction with the default
+    // parameters, one map update): "height x_min y_min x_max y_max" per entry of 0.1 m² or
+    // more, which the rostest's map must reproduce.
+    rosbag::Bag bag(out + "/turning.bag", rosbag::bagmode::Write);
+    const hope::synthetic::Scene room = hope::synthetic::demoRoom();
+    writeStatic(bag, ros::Time(100.0));
+    pcl::PointCloud<pcl::PointXYZ> at_once;
+    int frame = 0;
+    for (int degrees = -40; degrees <= 40; degrees += 10, ++frame) {
+      const hope::synthetic::Camera camera =
+          hope::synthetic::demoCameraTurned(degrees * M_PI / 180);
+      hope::synthetic::SensorNoise noise;
+      noise.seed = static_cast<std::uint32_t>(frame + 1);
+      const auto cloud =
+          hope::depthToCloud(room.render(camera, noise).depth, camera.intrinsics, 1.0);
+      writeFrame(bag, cloud, camera.pose, "odom", ros::Time(100.2 + 0.2 * frame));
+      for (const auto& p : cloud) {
+        if (!std::isfinite(p.z)) continue;
+        const Eigen::Vector3f w = (camera.pose * Eigen::Vector3d(p.x, p.y, p.z)).cast<float>();
+        at_once.push_back(pcl::PointXYZ(w.x(), w.y(), w.z()));
+      }
+    }
+    bag.close();
+    const Eigen::Vector3d eye = hope::synthetic::demoCamera().pose.translation();
+    hope::Extractor extractor;
+    hope::Result whole =
+        extractor.extract(at_once, hope::Orientation::identity().withViewpoint(eye));
+    hope::SurfaceMap map(hope::surfaceMapOptionsFor(hope::Params()));
+    map.update(whole.planes, 0.0, eye);
+    std::ofstream expected(out + "/turning_map.txt");
+    expected << "# the demo room seen at once: height x_min y_min x_max y_max (odom, metres) of "
+                "each map entry of 0.1 m² or more\n";
+    expected.precision(9);
+    for (const auto& s : map.surfaces()) {
+      if (s.area < 0.1) continue;
+      expected << s.height << " " << s.bbox[0] << " " << s.bbox[1] << " " << s.bbox[2] << " "
+               << s.bbox[3] << "\n";
+    }
   }
   const std::string dir = shared + "/tum_fr1_desk";
   const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);

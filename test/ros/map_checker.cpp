@@ -1,11 +1,16 @@
-// The rostest side of the surface map: while the demo room bag replays with tf into odom (a
-// fixed frame) and ~surface_map on, every surface of the room is one entry of the latched ~map
-// at its height, the table keeps one id in every PlaneArray, and ~reset_map empties the map,
-// which then starts afresh with ids never given before. Parameters (private): hope_ns (/hope),
-// timeout (60 s).
+// The rostest side of the surface map. synthetic_map: while the demo room bag replays with tf
+// into odom (a fixed frame) and ~surface_map on, every surface of the room is one entry of the
+// latched ~map at its height, the table keeps one id in every PlaneArray, and ~reset_map
+// empties the map, which then starts afresh with ids never given before. synthetic_turning:
+// while a camera turning in place replays, the latched ~map is the map the same room seen at
+// once gives (the file `expected`). Parameters (private): hope_ns (/hope), timeout (60 s),
+// expected (synthetic_turning). Each .test runs its own test (--gtest_filter).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -96,6 +101,79 @@ TEST(HopeMap, EachSurfaceIsOneEntryAndKeepsItsIdUntilTheMapIsReset) {
   std::lock_guard<std::mutex> lock(received.mutex);
   for (const hope::Plane& p : received.maps.back().planes) {
     EXPECT_GT(p.id, largest_id) << "an id given again after the reset";
+  }
+}
+
+// A robot turning in place, with tf: the map the nodelet keeps is the one the same room seen
+// at once gives (hope_make_test_bags computed it with the core library, the default
+// parameters): for each of its entries of 0.1 m² or more, one entry of ~map at its height
+// (within 1 cm) whose box is the same to within a cell (r_xy, 5 cm) on every side, and no
+// other; and each of the room's larger level surfaces (floor 0, treads 0.17 and 0.34, cabinet
+// 0.45, table 0.75; ground truth) is one entry.
+TEST(HopeMap, ARobotTurningInPlaceMapsWhatTheRoomSeenAtOnceGives) {
+  ros::NodeHandle nh, pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  const std::string path = pnh.param<std::string>("expected", "");
+  std::ifstream file(path);
+  ASSERT_TRUE(file) << "cannot read the expected map '" << path << "' (param ~expected)";
+  std::vector<std::array<double, 5>> expected;
+  for (std::string line; std::getline(file, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::array<double, 5> e{};
+    std::istringstream in(line);
+    ASSERT_TRUE(in >> e[0] >> e[1] >> e[2] >> e[3] >> e[4]) << "bad line: " << line;
+    expected.push_back(e);
+  }
+  ASSERT_GE(expected.size(), 5u) << "the room seen at once has at least 5 large surfaces";
+  ros::Subscriber planes =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(received.mutex);
+                                           received.arrays.push_back(*m);
+                                         }));
+  ros::Subscriber map =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/map", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(received.mutex);
+                                           received.maps.push_back(*m);
+                                         }));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  // Two turns (the bag loops over 9 views), then a map published after them: the map is
+  // republished at least once a second while frames come.
+  std::size_t maps_before = 0;
+  ASSERT_TRUE(waitFor(
+      [&] { return received.arrays.size() >= 20 && (maps_before = received.maps.size()) > 0; },
+      timeout))
+      << "no PlaneArrays on " << hope_ns << "/planes or no map on " << hope_ns << "/map";
+  ASSERT_TRUE(waitFor([&] { return received.maps.size() > maps_before; }, timeout))
+      << "no map after two turns";
+  std::lock_guard<std::mutex> lock(received.mutex);
+  std::vector<hope::Plane> mapped;
+  for (const hope::Plane& p : received.maps.back().planes) {
+    if (p.area >= 0.1) mapped.push_back(p);
+  }
+  for (double truth : {0.0, 0.17, 0.34, 0.45, 0.75}) {
+    int entries = 0;
+    for (const hope::Plane& p : mapped) entries += std::abs(p.height - truth) < 0.015 ? 1 : 0;
+    EXPECT_EQ(entries, 1) << "the surface at " << truth << " m";
+  }
+  EXPECT_EQ(mapped.size(), expected.size()) << "entries of 0.1 m² or more";
+  const double cell = 0.05 + 1e-6;
+  for (const auto& e : expected) {
+    const hope::Plane* match = nullptr;
+    for (const hope::Plane& p : mapped) {
+      if (std::abs(p.height - e[0]) < 0.01) match = &p;
+    }
+    ASSERT_NE(match, nullptr) << "no map entry at " << e[0] << " m";
+    const double box[4] = {match->x_min, match->y_min, match->x_max, match->y_max};
+    for (int side = 0; side < 4; ++side) {
+      EXPECT_NEAR(box[side], e[1 + side], cell)
+          << "side " << side << " of the entry at " << e[0] << " m";
+    }
   }
 }
 

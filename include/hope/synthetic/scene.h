@@ -156,6 +156,9 @@ void sampleRectangle(const Rectangle& rect, double spacing, int label, LabeledCl
 Scene demoRoom();
 // A camera that sees the demo room like a person holding an RGB-D camera at 1.5 m.
 Camera demoCamera();
+// demoCamera() turned by `yaw` radians about the vertical through its eye: a robot turning in
+// place.
+Camera demoCameraTurned(double yaw);
 
 }  // namespace synthetic
 }  // namespace hope

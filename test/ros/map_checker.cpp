@@ -36,6 +36,19 @@ bool waitFor(Done done, double timeout) {
   return hope_test::waitFor(received.mutex, done, timeout);
 }
 
+// Collects every PlaneArray on hope_ns/planes and every map on hope_ns/map into `received`.
+std::vector<ros::Subscriber> listen(ros::NodeHandle& nh, const std::string& hope_ns) {
+  auto into = [&nh](const std::string& topic, std::vector<hope::PlaneArray>& list) {
+    return nh.subscribe<hope::PlaneArray>(topic, 10,
+                                          boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                              [&list](const hope::PlaneArray::ConstPtr& m) {
+                                                std::lock_guard<std::mutex> lock(received.mutex);
+                                                list.push_back(*m);
+                                              }));
+  };
+  return {into(hope_ns + "/planes", received.arrays), into(hope_ns + "/map", received.maps)};
+}
+
 // demoRoom()'s level surfaces (world = odom heights): floor, two stair treads, the cabinet, the
 // table, the book on it.
 const double kSurfaces[] = {0.0, 0.17, 0.34, 0.45, 0.75, 0.80};
@@ -44,20 +57,7 @@ TEST(HopeMap, EachSurfaceIsOneEntryAndKeepsItsIdUntilTheMapIsReset) {
   ros::NodeHandle nh, pnh("~");
   const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
   const double timeout = pnh.param("timeout", 60.0);
-  ros::Subscriber planes =
-      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
-                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
-                                         [](const hope::PlaneArray::ConstPtr& m) {
-                                           std::lock_guard<std::mutex> lock(received.mutex);
-                                           received.arrays.push_back(*m);
-                                         }));
-  ros::Subscriber map =
-      nh.subscribe<hope::PlaneArray>(hope_ns + "/map", 10,
-                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
-                                         [](const hope::PlaneArray::ConstPtr& m) {
-                                           std::lock_guard<std::mutex> lock(received.mutex);
-                                           received.maps.push_back(*m);
-                                         }));
+  const std::vector<ros::Subscriber> subscribers = listen(nh, hope_ns);
   ros::AsyncSpinner spinner(2);
   spinner.start();
   // Ten frames: the bag loops over 5 frames of a sliding camera.
@@ -126,20 +126,7 @@ TEST(HopeMap, ARobotTurningInPlaceMapsWhatTheRoomSeenAtOnceGives) {
     expected.push_back(e);
   }
   ASSERT_GE(expected.size(), 5u) << "the room seen at once has at least 5 large surfaces";
-  ros::Subscriber planes =
-      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
-                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
-                                         [](const hope::PlaneArray::ConstPtr& m) {
-                                           std::lock_guard<std::mutex> lock(received.mutex);
-                                           received.arrays.push_back(*m);
-                                         }));
-  ros::Subscriber map =
-      nh.subscribe<hope::PlaneArray>(hope_ns + "/map", 10,
-                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
-                                         [](const hope::PlaneArray::ConstPtr& m) {
-                                           std::lock_guard<std::mutex> lock(received.mutex);
-                                           received.maps.push_back(*m);
-                                         }));
+  const std::vector<ros::Subscriber> subscribers = listen(nh, hope_ns);
   ros::AsyncSpinner spinner(2);
   spinner.start();
   // Two turns (the bag loops over 9 views), then a map published after them: the map is

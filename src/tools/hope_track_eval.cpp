@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -142,15 +143,10 @@ std::set<int> visibleSurfaces(const cv::Mat& labels, int min_pixels) {
   return visible;
 }
 
-// Ids from the tracker in `mode`, or, with `map` set, from a SurfaceMap (pose sequences
-// only: the map needs the fixed frame and the camera's position in it).
-Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& stamps,
-          hope::TrackingMode mode, const std::vector<Eigen::Vector3d>* map_viewpoints = nullptr,
-          const hope::SurfaceMapOptions& map_options = hope::SurfaceMapOptions()) {
-  hope::TrackerOptions options;
-  options.mode = mode;
-  hope::PlaneTracker tracker(options);
-  hope::SurfaceMap map(map_options);
+// Gives frame f's planes their ids, in place (a PlaneTracker's or a SurfaceMap's update).
+using AssignIds = std::function<void(std::vector<hope::HorizontalPlane>& planes, std::size_t f)>;
+
+Row score(const std::vector<FramePlanes>& frames, const AssignIds& assign) {
   hope::evaluation::IdentityScorer scorer;
   hope::evaluation::IdentityF1 idf1;
   std::set<int> floor_ids, table_ids;
@@ -159,11 +155,7 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
   for (std::size_t f = 0; f < frames.size(); ++f) {
     std::vector<hope::HorizontalPlane> planes_now = frames[f].planes;
     const auto start = std::chrono::steady_clock::now();
-    if (map_viewpoints) {
-      map.update(planes_now, stamps[f], (*map_viewpoints)[f]);
-    } else {
-      tracker.update(planes_now, stamps[f]);
-    }
+    assign(planes_now, f);
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::vector<int> ids;
     for (const auto& p : planes_now) ids.push_back(p.id);
@@ -176,7 +168,6 @@ Row score(const std::vector<FramePlanes>& frames, const std::vector<double>& sta
     planes += planes_now.size();
   }
   Row row;
-  row.mode = hope::toString(mode);
   row.scores = scorer.scores();
   row.idf1 = idf1.score();
   row.floor_ids = floor_ids.size();
@@ -272,16 +263,26 @@ int run(const hope::tools::ParsedArgs& args) {
                       {0, hope::TrackingMode::kImproved, "improved, no merge"},
                       {1, hope::TrackingMode::kImproved, "improved + merge"}};
       for (const auto& variant : variants) {
-        Row row = score(extracted[source][variant.merge], stamps, variant.mode);
+        hope::TrackerOptions options;
+        options.mode = variant.mode;
+        hope::PlaneTracker tracker(options);
+        Row row = score(extracted[source][variant.merge],
+                        [&](std::vector<hope::HorizontalPlane>& planes, std::size_t f) {
+                          tracker.update(planes, stamps[f]);
+                        });
         row.mode = variant.name;
         row.sequence = name;
         row.orientation = source == 0 ? "pose" : "gravity";
         rows.push_back(row);
       }
       if (source == 0) {
-        // The surface map on the same planes, as hope_extract --sequence keeps it with poses.
-        Row row = score(extracted[source][1], stamps, hope::TrackingMode::kImproved, &viewpoints,
-                        map_options);
+        // The surface map on the same planes, as hope_extract --sequence keeps it with poses:
+        // it needs the fixed frame and the camera's position in it.
+        hope::SurfaceMap map(map_options);
+        Row row = score(extracted[source][1],
+                        [&](std::vector<hope::HorizontalPlane>& planes, std::size_t f) {
+                          map.update(planes, stamps[f], viewpoints[f]);
+                        });
         row.mode = "map + merge";
         row.sequence = name;
         row.orientation = "pose";

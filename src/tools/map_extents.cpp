@@ -5,24 +5,12 @@
 #include <cstdio>
 #include <sstream>
 
+#include "hope/grid_cell_key.h"
 #include "hope/plane_outline.h"
 
 namespace hope::tools {
 
 namespace {
-
-std::uint64_t key(std::int64_t ix, std::int64_t iy) {
-  constexpr std::int64_t kOffset = std::int64_t{1} << 31;
-  return (static_cast<std::uint64_t>(ix + kOffset) << 32) |
-         static_cast<std::uint64_t>(iy + kOffset);
-}
-
-std::int64_t cellX(std::uint64_t k) {
-  return static_cast<std::int64_t>(k >> 32) - (std::int64_t{1} << 31);
-}
-std::int64_t cellY(std::uint64_t k) {
-  return static_cast<std::int64_t>(k & 0xffffffffu) - (std::int64_t{1} << 31);
-}
 
 // The footprint of a point set on the grid: its cells closed (dilated, then eroded, over the
 // 8 neighbours), so the gaps between a far floor's sparse rows are filled and its border is
@@ -31,7 +19,8 @@ std::unordered_set<std::uint64_t> closed(const std::unordered_set<std::uint64_t>
   std::unordered_set<std::uint64_t> dilated;
   for (std::uint64_t c : cells) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
-      for (std::int64_t dx = -1; dx <= 1; ++dx) dilated.insert(key(cellX(c) + dx, cellY(c) + dy));
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        dilated.insert(cellKey(cellX(c) + dx, cellY(c) + dy));
     }
   }
   std::unordered_set<std::uint64_t> out;
@@ -39,7 +28,7 @@ std::unordered_set<std::uint64_t> closed(const std::unordered_set<std::uint64_t>
     bool inner = true;
     for (std::int64_t dy = -1; dy <= 1 && inner; ++dy) {
       for (std::int64_t dx = -1; dx <= 1 && inner; ++dx) {
-        inner = dilated.count(key(cellX(c) + dx, cellY(c) + dy)) > 0;
+        inner = dilated.count(cellKey(cellX(c) + dx, cellY(c) + dy)) > 0;
       }
     }
     if (inner) out.insert(c);
@@ -70,8 +59,8 @@ void MapExtentCheck::addFrame(const Result& result, const AlignedPoints& aligned
     const Eigen::Vector3d p = aligned[i].cast<double>() + result.local_origin;
     if (!p.allFinite()) continue;
     seen_[result.planes[label].id].insert(
-        key(static_cast<std::int64_t>(std::floor(p.x() / cell_)),
-            static_cast<std::int64_t>(std::floor(p.y() / cell_))));
+        cellKey(static_cast<std::int64_t>(std::floor(p.x() / cell_)),
+                static_cast<std::int64_t>(std::floor(p.y() / cell_))));
   }
 }
 
@@ -99,7 +88,7 @@ std::vector<MapExtent> MapExtentCheck::compare(const std::vector<HorizontalPlane
           continue;
         }
         ++map_cells;
-        if (seen.count(key(ix, iy))) ++both;
+        if (seen.count(cellKey(ix, iy))) ++both;
       }
     }
     e.map_area = static_cast<double>(map_cells) * cell_area;

@@ -16,7 +16,7 @@ if [ -d "$data/mosd_dev" ] && [ -f ../shared/tools/objects_score.py ]; then
     echo "## 9. Objects and placements on real tabletops (mOSD), beside PCL's pipelines"
     echo
     echo "What stands on each plane and where a 0.10 × 0.10 m footprint (0.02 m clearance) fits, on"
-    echo "the 13 labelled scenes of mosd_dev (gravity from the labelled table), scored per labelled"
+    echo "the labelled scenes of mosd_dev (gravity from the labelled table), scored per labelled"
     echo "part by \`../shared/tools/objects_score.py\` for hope_extract and for"
     echo "\`hope_object_baselines --method tabletop|lccp\` (PCL's classic tabletop pipeline, LCCP on its"
     echo "prism points: src/evaluation/object_baselines.cpp). Weighted overlap (WOv) weighs each part's"

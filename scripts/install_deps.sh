@@ -18,6 +18,7 @@ packages=(
   libvisualization-msgs-dev rviz xvfb imagemagick
   libgtest-dev libbenchmark-dev clang-format time  # time: peak memory in scripts/benchmark.sh
   pybind11-dev python3-dev python3-numpy python3-setuptools  # the Python bindings
+  python3-scipy  # ../shared/tools/id_accuracy.py (the quality guard's identity figures)
   libboost-program-options-dev  # the command-line tools' arguments
   clang libclang-rt-14-dev  # libFuzzer and the sanitizer runtimes (scripts/fuzz.sh)
 )

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Objects and placements on the 13 labelled mOSD scenes of ../shared/data/mosd_dev, scored by
+# Objects and placements on the labelled mOSD scenes of ../shared/data/mosd_dev, scored by
 # ../shared/tools/objects_score.py (per labelled part: weighted overlap, parts found at IoU >= 0.5,
 # under/over-segmentation, false objects; placements valid when they rest on labelled table
 # points clear of every labelled object point), then the stage's cost on test57 and on the TUM

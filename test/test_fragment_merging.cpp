@@ -243,7 +243,7 @@ TEST(FragmentMerging, RealTabletopScenesGiveTheWholeTableAsOnePlane) {
     EXPECT_GE(iou, 0.9) << scene.name << ": " << describe(result);
     ++scenes;
   }
-  EXPECT_EQ(scenes, 13) << "the data README lists 13 scenes";
+  EXPECT_EQ(scenes, 50) << "the data README lists 50 scenes";
 }
 
 // Fragments join group by group, and a group's representative must agree too: on mOSD test57

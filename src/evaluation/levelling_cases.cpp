@@ -106,30 +106,30 @@ void mosdCases(const std::string& data_dir, const CaseVisitor& visit,
   }
 }
 
-void kitchenCases(const std::string& data_dir, int kitchen_step, const CaseVisitor& visit,
-                  std::vector<std::string>& missing) {
+// A recorded sequence in the TUM layout (depth.txt, groundtruth.txt with poses in a
+// gravity-aligned world, intrinsics.txt or the Kinect's): every step-th frame with its pose.
+void sequenceCases(const std::string& dir, const std::string& group, int step,
+                   const CaseVisitor& visit, std::vector<std::string>& missing) {
   namespace fs = std::filesystem;
-  // The kitchen sequence: every kitchen_step-th frame with its pose in a gravity-aligned world.
-  const std::string kitchen = data_dir + "/kitchen_dev";
-  if (fs::is_regular_file(kitchen + "/depth.txt")) {
+  if (fs::is_regular_file(dir + "/depth.txt")) {
     tools::SequenceOptions options;
-    options.dir = kitchen;
+    options.dir = dir;
     const tools::SequenceListing listing = tools::listSequence(options);
     const PinholeIntrinsics k = listing.intrinsics_file.empty()
                                     ? PinholeIntrinsics{585, 585, 320, 240}
                                     : tools::readIntrinsics(listing.intrinsics_file);
-    for (std::size_t f = 0; f < listing.frames.size(); f += std::max(1, kitchen_step)) {
+    for (std::size_t f = 0; f < listing.frames.size(); f += std::max(1, step)) {
       cv::Mat image;
       if (!tools::readImageFile(listing.frames[f].depth, cv::IMREAD_ANYDEPTH, image)) continue;
       LevellingCase c;
-      c.group = "kitchen_dev (sequence poses)";
+      c.group = group;
       c.name = fs::path(listing.frames[f].depth).stem().string();
       c.cloud = depthToCloud(image, k, 5000);
       c.truth = listing.frames[f].orientation;
       visit(c);
     }
   } else {
-    missing.push_back(kitchen);
+    missing.push_back(dir);
   }
 }
 
@@ -239,7 +239,14 @@ void realLevellingCases(const std::string& data_dir, int kitchen_step, const Cas
                         std::vector<std::string>& missing, unsigned which) {
   if (which & kTumDesk) tumCases(data_dir, visit, missing);
   if (which & kMosd) mosdCases(data_dir, visit, missing);
-  if (which & kKitchen) kitchenCases(data_dir, kitchen_step, visit, missing);
+  if (which & kKitchen) {
+    sequenceCases(data_dir + "/kitchen_dev", "kitchen_dev (sequence poses)", kitchen_step, visit,
+                  missing);
+  }
+  if (which & kStudyroom) {
+    sequenceCases(data_dir + "/studyroom_dev", "studyroom_dev (sequence poses)", kitchen_step,
+                  visit, missing);
+  }
   if (which & kPclLaser) pclLaserCases(data_dir, visit, missing);
 }
 

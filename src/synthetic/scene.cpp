@@ -195,6 +195,7 @@ bool Scene::intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dire
   for (const auto& primitive : primitives_) {
     if (primitive->intersect(origin, direction, candidate) && (!any || candidate.t < hit.t)) {
       hit = candidate;
+      hit.thing = primitive->thing;
       any = true;
       if (color) *color = primitive->color;
     }
@@ -207,6 +208,7 @@ RenderedFrame Scene::render(const Camera& camera, const SensorNoise& noise) cons
   frame.depth = cv::Mat(camera.height, camera.width, CV_32FC1, cv::Scalar(0));
   frame.bgr = cv::Mat(camera.height, camera.width, CV_8UC3, cv::Scalar(0, 0, 0));
   frame.labels = cv::Mat(camera.height, camera.width, CV_32SC1, cv::Scalar(kNoPlane));
+  frame.things = cv::Mat(camera.height, camera.width, CV_32SC1, cv::Scalar(kNoThing));
   std::mt19937 rng(noise.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   const Eigen::Matrix3d r = camera.pose.linear();
@@ -232,6 +234,7 @@ RenderedFrame Scene::render(const Camera& camera, const SensorNoise& noise) cons
       }
       frame.depth.at<float>(row, col) = static_cast<float>(depth);
       frame.labels.at<std::int32_t>(row, col) = hit.label;
+      frame.things.at<std::int32_t>(row, col) = hit.thing;
       const double lambert = std::fabs(hit.normal.dot(ray.normalized()));
       const Eigen::Vector3f shaded = color * static_cast<float>(0.35 + 0.65 * lambert) * 255.f;
       frame.bgr.at<cv::Vec3b>(row, col) =
@@ -281,28 +284,40 @@ void sampleRectangle(const Rectangle& rect, double spacing, int label, LabeledCl
 Scene demoRoom() {
   Scene scene;
   using V = Eigen::Vector3d;
-  scene.add<Box>(V(-1, -3, -0.05), V(5, 3, 0.0), 0).color = {0.55f, 0.5f, 0.45f};  // floor
+  auto thing = [](Primitive& primitive, int which, const Eigen::Vector3f& color) {
+    primitive.thing = which;
+    primitive.color = color;
+  };
+  thing(scene.add<Box>(V(-1, -3, -0.05), V(5, 3, 0.0), 0), kNoThing, {0.55f, 0.5f, 0.45f});
   // Table: top 0.72–0.75 m on four legs.
-  scene.add<Box>(V(1.3, -0.9, 0.72), V(2.2, 0.1, 0.75), 1).color = {0.75f, 0.6f, 0.4f};
+  thing(scene.add<Box>(V(1.3, -0.9, 0.72), V(2.2, 0.1, 0.75), 1), demo::kTable,
+        {0.75f, 0.6f, 0.4f});
   for (double x : {1.33, 2.13}) {
     for (double y : {-0.87, 0.03}) {
-      scene.add<Box>(V(x, y, 0), V(x + 0.04, y + 0.04, 0.72), kNoPlane).color = {0.3f, 0.3f, 0.3f};
+      thing(scene.add<Box>(V(x, y, 0), V(x + 0.04, y + 0.04, 0.72), kNoPlane), demo::kTable,
+            {0.3f, 0.3f, 0.3f});
     }
   }
   // A low cabinet.
-  scene.add<Box>(V(1.3, 0.45, 0.0), V(1.9, 1.1, 0.45), 2).color = {0.4f, 0.55f, 0.7f};
-  // Two stair treads: 0.17 m and 0.34 m.
-  scene.add<Box>(V(2.6, -1.2, 0.0), V(3.6, 1.4, 0.17), 3).color = {0.65f, 0.65f, 0.65f};
-  scene.add<Box>(V(2.9, -1.2, 0.17), V(3.6, 1.4, 0.34), 4).color = {0.6f, 0.6f, 0.65f};
+  thing(scene.add<Box>(V(1.3, 0.45, 0.0), V(1.9, 1.1, 0.45), 2), demo::kCabinet,
+        {0.4f, 0.55f, 0.7f});
+  // Two stair treads: 0.17 m and 0.34 m, one block.
+  thing(scene.add<Box>(V(2.6, -1.2, 0.0), V(3.6, 1.4, 0.17), 3), demo::kStairBlock,
+        {0.65f, 0.65f, 0.65f});
+  thing(scene.add<Box>(V(2.9, -1.2, 0.17), V(3.6, 1.4, 0.34), 4), demo::kStairBlock,
+        {0.6f, 0.6f, 0.65f});
   // A book on the table, 5 cm high: a separate plane at 0.80 m.
-  scene.add<Box>(V(1.7, -0.45, 0.75), V(1.95, -0.25, 0.80), 5).color = {0.8f, 0.2f, 0.2f};
+  thing(scene.add<Box>(V(1.7, -0.45, 0.75), V(1.95, -0.25, 0.80), 5), demo::kBook,
+        {0.8f, 0.2f, 0.2f});
   // Things that look horizontal locally but are not planes.
   const double slope = 0.5;  // rad, well above atan(0.02 / 0.05) ≈ 0.38
   Eigen::Matrix3d tilt = Eigen::AngleAxisd(slope, V::UnitY()).toRotationMatrix();
-  scene.add<Box>(V(0.9, -1.3, 0.2), V(1.3, -0.9, 0.25), kNoPlane, tilt).color = {0.3f, 0.6f, 0.3f};
-  scene.add<Sphere>(V(1.1, 0.2, 0.15), 0.15).color = {0.9f, 0.8f, 0.2f};
-  scene.add<Cone>(V(1.5, -0.2, 1.0), 0.1, 0.25).color = {0.9f, 0.5f, 0.1f};
-  scene.add<Cylinder>(V(1.95, -0.8, 0.79), V(2.15, -0.55, 0.79), 0.04).color = {0.5f, 0.3f, 0.7f};
+  thing(scene.add<Box>(V(0.9, -1.3, 0.2), V(1.3, -0.9, 0.25), kNoPlane, tilt), demo::kRamp,
+        {0.3f, 0.6f, 0.3f});
+  thing(scene.add<Sphere>(V(1.1, 0.2, 0.15), 0.15), demo::kBall, {0.9f, 0.8f, 0.2f});
+  thing(scene.add<Cone>(V(1.5, -0.2, 1.0), 0.1, 0.25), demo::kCone, {0.9f, 0.5f, 0.1f});
+  thing(scene.add<Cylinder>(V(1.95, -0.8, 0.79), V(2.15, -0.55, 0.79), 0.04), demo::kTube,
+        {0.5f, 0.3f, 0.7f});
   return scene;
 }
 

@@ -537,7 +537,7 @@ int run(const hope::tools::ParsedArgs& args) {
     md << "Skipped: no labelled scenes at `" << mosd_dir << "` (give `--data DIR`).\n";
     headline.push_back("Not measured: the real tabletop scenes were absent.");
   } else {
-    md << "The 13 labelled Kinect scenes of `" << mosd_dir
+    md << "The labelled Kinect scenes of `" << mosd_dir
        << "` (boxes, stacked boxes, occluded objects, cylinders, clutter), default r_xy = 0.05, "
           "r_z = 0.02. The dataset records no orientation: up is the normal of a least-squares "
           "plane through the table-top points (labels 1–9), the camera at the origin. A robot "

@@ -206,8 +206,8 @@ std::vector<std::string> writeLevellingSection(std::ostream& md, const std::stri
     if (outcome.estimate && c.group.rfind("TUM", 0) == 0) {
       estimate_ms.push_back(outcome.estimate->time_ms);
     }
-    const bool kitchen = c.group.rfind("kitchen", 0) == 0;
-    if (!kitchen) {
+    const bool sequence_frame = c.group.find("(sequence poses)") != std::string::npos;
+    if (!sequence_frame) {
       real_rows << "| " << c.group.substr(0, c.group.find(" (")) << " | " << c.name << " | "
                 << (outcome.estimate ? fmt("%.2f", angleDeg(outcome.estimate->up_in_sensor, truth))
                                      : std::string("refused"))
@@ -292,8 +292,9 @@ std::vector<std::string> writeLevellingSection(std::ostream& md, const std::stri
                      (g.hope_refused ? std::string("refused") : fmt("%.2f", worst(g.hope)) + "°");
     }
   }
-  md << "\nThe truth of the TUM frame and of the kitchen sequence is a pose from motion capture "
-        "or camera tracking, and under it their own level surfaces are not level. Here, for "
+  md << "\nThe truth of the TUM frame and of the recorded sequences is a pose from motion "
+        "capture or camera tracking, and under it their own level surfaces are not level. Here, "
+        "for "
         "each, the angle between the true up and the area-weighted normal of the planes of "
         "0.1 m² or more extracted with the true pose (the truth's own tilt), and hope's error "
         "against that normal:\n\n| clouds | n | truth's own tilt: median | worst | hope "
@@ -311,7 +312,7 @@ std::vector<std::string> writeLevellingSection(std::ostream& md, const std::stri
     for (const auto& m : missing) md << " `" << m << "`";
     md << ".\n";
   }
-  md << "\nPer real cloud (the kitchen's 85 frames are summed up above): the estimate's error, "
+  md << "\nPer real cloud (the sequences' frames are summed up above): the estimate's error, "
         "the level area it rests on (m²), the RMS angle of its cells' normals from up (°), the "
         "distinct heights of its level surfaces, and the tilt search's error.\n\n"
         "| data | cloud | hope error (°) | level area (m²) | spread (°) | heights | tilt search "

@@ -1,7 +1,7 @@
 // Clouds in their sensor's own frame whose up is known, for measuring up from the scene
 // (up_estimation.h): synthetic camera views at many pitches and rolls and tilted LiDAR scans
 // (exact), and the real data of ../shared/data (TUM with its pose, mOSD by its labelled table,
-// the kitchen sequence with its poses, PCL's laser scans whose z is roughly up).
+// the kitchen and study-room sequences with their poses, PCL's laser scans whose z is roughly up).
 #pragma once
 
 #include <functional>
@@ -58,12 +58,13 @@ enum RealData : unsigned {
   kMosd = 2,
   kKitchen = 4,
   kPclLaser = 8,
-  kAllRealData = kTumDesk | kMosd | kKitchen | kPclLaser,
+  kStudyroom = 16,
+  kAllRealData = kTumDesk | kMosd | kKitchen | kPclLaser | kStudyroom,
 };
 
 // The real clouds of `data_dir` whose up is known, in groups, from the datasets in `which`; a
 // group whose data is absent is left out (the names of the absent ones go to `missing`).
-// `kitchen_step`: every n-th frame of the kitchen sequence.
+// `kitchen_step`: every n-th frame of the recorded sequences (kitchen_dev, studyroom_dev).
 void realLevellingCases(const std::string& data_dir, int kitchen_step, const CaseVisitor& visit,
                         std::vector<std::string>& missing, unsigned which = kAllRealData);
 

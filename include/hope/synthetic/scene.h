@@ -21,11 +21,14 @@ namespace synthetic {
 
 // Ground-truth label of surfaces that are not a horizontal plane.
 constexpr int kNoPlane = -1;
+// Ground-truth thing of primitives that belong to no object (a floor, a wall).
+constexpr int kNoThing = -1;
 
 struct Hit {
   double t = 0;                                       // ray parameter (distance for unit rays)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // outward unit normal
   int label = kNoPlane;
+  int thing = kNoThing;  // the physical thing hit (Primitive::thing)
 };
 
 class Primitive {
@@ -35,6 +38,9 @@ class Primitive {
   virtual bool intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                          Hit& hit) const = 0;
   Eigen::Vector3f color{0.7f, 0.7f, 0.7f};  // RGB in [0, 1], for the rendered image
+  // The physical thing this primitive is part of (a table's top and legs share one), the truth
+  // an object segmentation is scored against; kNoThing for what is no object (the floor).
+  int thing = kNoThing;
 };
 
 // A box with rotation `rotation` about its centre. Its top face (local +z) carries
@@ -116,6 +122,7 @@ struct RenderedFrame {
   cv::Mat depth;   // CV_32FC1 metres, 0 where nothing was hit
   cv::Mat bgr;     // CV_8UC3 shaded image
   cv::Mat labels;  // CV_32SC1 ground-truth plane label per pixel (kNoPlane elsewhere)
+  cv::Mat things;  // CV_32SC1 ground-truth thing per pixel (Primitive::thing; kNoThing elsewhere)
 };
 
 struct LabeledCloud {
@@ -151,9 +158,14 @@ class Scene {
 void sampleRectangle(const Rectangle& rect, double spacing, int label, LabeledCloud& out,
                      double noise_sigma = 0.0, std::uint32_t seed = 1);
 
-// The demo room: floor, a table, a low shelf with two boards, a step, a ramp, a ball and a
-// cone. Ground-truth labels: 0 floor, 1 table top, 2 shelf board, 3 shelf top, 4 step.
+// The demo room: floor, a table with a book, a cone and a lying tube on it, a low cabinet, a
+// block of two stair treads, a ramp and a ball. Ground-truth plane labels: 0 floor, 1 table
+// top, 2 cabinet top, 3 and 4 the treads, 5 the book's top. Things (Primitive::thing, the
+// objects a person would name): demo::Thing.
 Scene demoRoom();
+namespace demo {
+enum Thing { kTable, kCabinet, kStairBlock, kBook, kRamp, kBall, kCone, kTube, kThings };
+}  // namespace demo
 // A camera that sees the demo room like a person holding an RGB-D camera at 1.5 m.
 Camera demoCamera();
 // demoCamera() turned by `yaw` radians about the vertical through its eye: a robot turning in

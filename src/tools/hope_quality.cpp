@@ -1,0 +1,316 @@
+// The quality guard's in-process figures (scripts/quality.sh compares them with
+// quality/floors.txt): the synthetic scenes whose answer is exact — the demo room's planes and
+// the things it holds, the pattern object's 26 faces, the LiDAR street's ground — and the real
+// data whose up is known: the labelled mOSD table tops, up from the scene on mOSD, kitchen_dev
+// and studyroom_dev, and the objects a frame of those two rooms holds. One line per figure, "NAME
+// VALUE"; a figure whose data is absent is printed as "NAME skipped" with the reason on stderr.
+// Every figure is deterministic: the same binary on the same data prints the same lines (one
+// thread, seeded noise).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hope/depth_image.h"
+#include "hope/evaluation/levelling_cases.h"
+#include "hope/evaluation/lidar_metrics.h"
+#include "hope/evaluation/segmentation_metrics.h"
+#include "hope/evaluation/table_scenes.h"
+#include "hope/extractor.h"
+#include "hope/synthetic/lidar.h"
+#include "hope/synthetic/paper_scenes.h"
+#include "hope/synthetic/scene.h"
+#include "hope/tools/cli.h"
+#include "hope/up_estimation.h"
+
+namespace {
+
+using hope::tools::ParsedArgs;
+
+hope::tools::CommandLine commandLine() {
+  hope::tools::CommandLine cl(
+      "hope_quality", {"[--part synthetic|tables|levelling|rooms] [--data DIR]"},
+      "Prints the quality guard's in-process figures, one \"NAME VALUE\" line each, for "
+      "scripts/quality.sh to compare with quality/floors.txt.");
+  cl.section("options")
+      .value("--part", "NAME",
+             "synthetic (demo room, pattern object, LiDAR street), tables (mOSD table tops), "
+             "levelling (up from the scene on mOSD, kitchen_dev, studyroom_dev) or rooms "
+             "(objects per frame on kitchen_dev and studyroom_dev); default all")
+      .value("--data", "DIR", "the shared data (default $HOPE_SHARED_DATA, else ../shared/data)");
+  return cl;
+}
+
+void print(const std::string& name, double value) {
+  std::printf("%s %.6g\n", name.c_str(), value);
+  std::fflush(stdout);
+}
+
+void skipped(const std::string& name, const std::string& why) {
+  std::printf("%s skipped\n", name.c_str());
+  std::fflush(stdout);
+  std::cerr << "hope_quality: " << name << " not measured: " << why << "\n";
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Hoover's counts (T = 0.8) of one extraction against the true plane of every point.
+hope::evaluation::HooverScores printHoover(const std::string& prefix, const std::vector<int>& truth,
+                                           const hope::Result& result) {
+  const std::vector<int> found(result.point_labels.begin(), result.point_labels.end());
+  const hope::evaluation::HooverScores h = hope::evaluation::hooverScores(truth, found, 0.8);
+  print(prefix + ".correct", double(h.correct));
+  print(prefix + ".noise", double(h.noise));
+  return h;
+}
+
+// The demo room (the first picture a newcomer sees, scripts/demo.sh): hope_synth's frame.
+void demoRoomFigures() {
+  using namespace hope::synthetic;
+  const Scene room = demoRoom();
+  const Camera camera = demoCamera();
+  const RenderedFrame frame = room.render(camera);
+  const auto cloud = hope::depthToCloud(frame.depth, camera.intrinsics, 1.0);
+  hope::ExtractOutputs outputs;
+  outputs.objects = true;
+  hope::Extractor extractor;
+  const hope::Result result =
+      extractor.extract(cloud, hope::Orientation::fromTransform(camera.pose), outputs);
+
+  const std::vector<int> truth(frame.labels.begin<std::int32_t>(),
+                               frame.labels.end<std::int32_t>());
+  const auto h = printHoover("demo.planes", truth, result);
+  // The worst height error of a correct plane, against the box tops demoRoom() builds.
+  const std::map<int, double> true_height = {{0, 0.0},  {1, 0.75}, {2, 0.45},
+                                             {3, 0.17}, {4, 0.34}, {5, 0.80}};
+  double worst_mm = 0;
+  for (const auto& [label, plane] : h.found_of_truth) {
+    worst_mm =
+        std::max(worst_mm, 1000 * std::fabs(result.planes[plane].height - true_height.at(label)));
+  }
+  print("demo.planes.height_error_mm", worst_mm);
+
+  // Objects against the eight things the room holds, scored as objects_score.py scores mOSD's
+  // parts: each thing's best IoU with one object, weighted by the thing's size (WOv); things
+  // found at IoU >= 0.5; false objects: under half of their points on any one thing.
+  const std::vector<int> thing(frame.things.begin<std::int32_t>(),
+                               frame.things.end<std::int32_t>());
+  const int objects = int(result.objects.size());
+  std::vector<std::vector<double>> shared(demo::kThings, std::vector<double>(objects, 0.0));
+  std::vector<double> thing_size(demo::kThings, 0.0), object_size(objects, 0.0);
+  for (std::size_t i = 0; i < thing.size(); ++i) {
+    const int t = thing[i], o = result.point_objects[i];
+    if (!std::isfinite(cloud[i].z)) continue;
+    if (t >= 0) ++thing_size[t];
+    if (o >= 0) ++object_size[o];
+    if (t >= 0 && o >= 0) ++shared[t][o];
+  }
+  double weighted = 0, total = 0;
+  int found_things = 0;
+  for (int t = 0; t < demo::kThings; ++t) {
+    double best = 0;
+    for (int o = 0; o < objects; ++o) {
+      best = std::max(best, shared[t][o] / (thing_size[t] + object_size[o] - shared[t][o]));
+    }
+    weighted += thing_size[t] * best;
+    total += thing_size[t];
+    found_things += best >= 0.5;
+  }
+  int false_objects = 0;
+  for (int o = 0; o < objects; ++o) {
+    double most = 0;
+    for (int t = 0; t < demo::kThings; ++t) most = std::max(most, shared[t][o]);
+    false_objects += most < 0.5 * object_size[o];
+  }
+  print("demo.objects.count", objects);
+  print("demo.objects.wov", total > 0 ? weighted / total : 0.0);
+  print("demo.objects.things_found", found_things);
+  print("demo.objects.false", false_objects);
+}
+
+// The paper's pattern object (§3.3): 26 horizontal faces, scanned from above and seen by a
+// Kinect-like camera, at the paper's setting and a coarser one.
+void patternFigures() {
+  using namespace hope::synthetic;
+  const Scene pattern = patternObjectScene();
+  const double w = kPatternHalfWidth;
+  hope::Params paper;
+  paper.r_xy = 0.009;
+  paper.r_z = 0.002;
+  hope::Params coarse;
+  coarse.r_xy = 0.02;
+  coarse.r_z = 0.005;
+  const LabeledCloud scan = pattern.scanFromAbove(-w, -w, w, w, 0.002, 0.0003);
+  printHoover("pattern.scan", scan.labels,
+              hope::Extractor(paper).extract(scan.cloud, hope::Orientation::identity()));
+  const Camera camera = patternObjectCamera();
+  const RenderedFrame frame = pattern.render(camera, SensorNoise::kinectLike());
+  const auto cloud = hope::depthToCloud(frame.depth, camera.intrinsics, 1.0);
+  const std::vector<int> truth(frame.labels.begin<std::int32_t>(),
+                               frame.labels.end<std::int32_t>());
+  const hope::Orientation pose = hope::Orientation::fromTransform(camera.pose);
+  printHoover("pattern.kinect", truth, hope::Extractor(paper).extract(cloud, pose));
+  printHoover("pattern.kinect_coarse", truth, hope::Extractor(coarse).extract(cloud, pose));
+}
+
+// The simulated street (lidar.h): the road as one plane to the sensor's range, per range band.
+void lidarFigures() {
+  using namespace hope::synthetic;
+  hope::Params lidar;  // the README's LiDAR setting
+  lidar.r_xy = 0.3;
+  lidar.r_z = 0.1;
+  const std::vector<std::pair<std::string, LidarModel>> models = {{"hdl64", LidarModel::hdl64()},
+                                                                  {"vlp16", LidarModel::vlp16()}};
+  const char* band_names[] = {"recall_0_10m", "recall_10_20m", "recall_20_40m", "recall_40_80m"};
+  for (const auto& [name, model] : models) {
+    const LidarScan scan = scanWithLidar(lidarStreet(), model, lidarStreetPose());
+    const hope::Result result = hope::Extractor(lidar).extract(
+        scan.toCloud(), hope::Orientation::identity().withViewpoint(Eigen::Vector3d::Zero()));
+    const std::vector<int> found(result.point_labels.begin(), result.point_labels.end());
+    const auto ground = hope::evaluation::scoreSurface(
+        scan.labels, found, hope::evaluation::horizontalRanges(scan.points), isStreetGround);
+    const std::string prefix = "lidar_street." + name + ".ground.";
+    for (std::size_t b = 0; b < ground.band_recall.size() && b < 4; ++b) {
+      // A band the model's beams never reach (the VLP-16's beyond 40 m) has nothing to guard.
+      if (!std::isnan(ground.band_recall[b])) print(prefix + band_names[b], ground.band_recall[b]);
+    }
+    print(prefix + "precision", ground.precision);
+    print(prefix + "pieces", ground.pieces);
+  }
+}
+
+// mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from
+// the labelled table (as hope_eval's section 6).
+void tableFigures(const std::string& data_dir) {
+  namespace fs = std::filesystem;
+  const std::string dir = data_dir + "/mosd_dev";
+  if (!fs::is_directory(dir)) {
+    for (const char* name : {"mosd.table_iou.mean", "mosd.table_iou.worst", "mosd.scenes"}) {
+      skipped(name, "no " + dir);
+    }
+    return;
+  }
+  std::vector<std::string> paths;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() == ".pcd") paths.push_back(entry.path().string());
+  }
+  std::sort(paths.begin(), paths.end());
+  std::vector<double> iou;
+  hope::Extractor extractor;
+  for (const std::string& path : paths) {
+    const auto scene = hope::evaluation::loadLabelledTableScene(path);
+    const hope::Result result = extractor.extract(scene.cloud, scene.orientation);
+    const std::vector<int> labels(result.point_labels.begin(), result.point_labels.end());
+    iou.push_back(hope::evaluation::bestPlaneIoU(labels, scene.is_table));
+  }
+  double sum = 0;
+  for (double v : iou) sum += v;
+  print("mosd.table_iou.mean", iou.empty() ? 0.0 : sum / iou.size());
+  print("mosd.table_iou.worst", iou.empty() ? 0.0 : *std::min_element(iou.begin(), iou.end()));
+  print("mosd.scenes", double(iou.size()));
+}
+
+// Up from the scene with no prior (hope_extract --level) against each cloud's true up.
+void levellingFigures(const std::string& data_dir) {
+  struct Group {
+    std::string name;
+    unsigned data;
+    std::vector<double> errors;
+    int refused = 0;
+  };
+  std::vector<Group> groups = {{"mosd", hope::evaluation::kMosd, {}, 0},
+                               {"kitchen", hope::evaluation::kKitchen, {}, 0},
+                               {"studyroom", hope::evaluation::kStudyroom, {}, 0}};
+  hope::UpEstimator estimator;
+  for (Group& g : groups) {
+    std::vector<std::string> missing;
+    hope::evaluation::realLevellingCases(
+        data_dir, 1,
+        [&](const hope::evaluation::LevellingCase& c) {
+          try {
+            const hope::UpEstimate e = estimator.estimate(hope::PointsView::of(c.cloud));
+            g.errors.push_back(hope::evaluation::angleDeg(e.up_in_sensor, c.trueUp()));
+          } catch (const hope::LevellingError&) {
+            ++g.refused;
+          }
+        },
+        missing, g.data);
+    const std::string prefix = g.name + ".up_error_deg.";
+    if (!missing.empty()) {
+      for (const char* figure : {"median", "worst"}) skipped(prefix + figure, missing[0]);
+      skipped(g.name + ".up_refused", missing[0]);
+      continue;
+    }
+    // A group where every cloud was refused has no error to give: the worst there is, 180°.
+    print(prefix + "median", g.errors.empty() ? 180.0 : median(g.errors));
+    print(prefix + "worst",
+          g.errors.empty() ? 180.0 : *std::max_element(g.errors.begin(), g.errors.end()));
+    print(g.name + ".up_refused", g.refused);
+  }
+}
+
+// Objects in real rooms, each frame with its true pose: how many a frame holds. The rooms hold
+// a few dozen things; a count far above that is one thing cut into pieces.
+void roomObjectFigures(const std::string& data_dir) {
+  const std::vector<std::pair<std::string, unsigned>> rooms = {
+      {"kitchen", hope::evaluation::kKitchen}, {"studyroom", hope::evaluation::kStudyroom}};
+  hope::ExtractOutputs outputs;
+  outputs.objects = true;
+  hope::Extractor extractor;
+  for (const auto& [name, data] : rooms) {
+    std::vector<double> counts;
+    std::vector<std::string> missing;
+    hope::evaluation::realLevellingCases(
+        data_dir, 1,
+        [&](const hope::evaluation::LevellingCase& c) {
+          counts.push_back(double(extractor.extract(c.cloud, c.truth, outputs).objects.size()));
+        },
+        missing, data);
+    const std::string prefix = name + ".objects_per_frame.";
+    if (!missing.empty() || counts.empty()) {
+      for (const char* figure : {"median", "max"}) {
+        skipped(prefix + figure, missing.empty() ? "no frames" : missing[0]);
+      }
+      continue;
+    }
+    print(prefix + "median", median(counts));
+    print(prefix + "max", *std::max_element(counts.begin(), counts.end()));
+  }
+}
+
+int run(const ParsedArgs& args) {
+  const std::string part = args.values.count("--part") ? args.values.at("--part") : "all";
+  if (part != "all" && part != "synthetic" && part != "tables" && part != "levelling" &&
+      part != "rooms") {
+    throw std::invalid_argument("--part '" + part +
+                                "' is not synthetic, tables, levelling or rooms");
+  }
+  const char* data_env = std::getenv("HOPE_SHARED_DATA");
+  const std::string data_dir = args.values.count("--data") ? args.values.at("--data")
+                               : data_env && *data_env     ? data_env
+                                                           : "../shared/data";
+  if (part == "all" || part == "synthetic") {
+    demoRoomFigures();
+    patternFigures();
+    lidarFigures();
+  }
+  if (part == "all" || part == "tables") tableFigures(data_dir);
+  if (part == "all" || part == "levelling") levellingFigures(data_dir);
+  if (part == "all" || part == "rooms") roomObjectFigures(data_dir);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return hope::tools::runTool("hope_quality", commandLine, run, argc, argv);
+}

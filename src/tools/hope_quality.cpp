@@ -1,11 +1,11 @@
 // The quality guard's in-process figures (scripts/quality.sh compares them with
-// quality/floors.txt): the synthetic scenes whose answer is exact — the demo room's planes and
-// the things it holds, the pattern object's 26 faces, the LiDAR street's ground — and the real
-// data whose up is known: the labelled mOSD table tops, up from the scene on mOSD, kitchen_dev
-// and studyroom_dev, and the objects a frame of those two rooms holds. One line per figure, "NAME
-// VALUE"; a figure whose data is absent is printed as "NAME skipped" with the reason on stderr.
-// Every figure is deterministic: the same binary on the same data prints the same lines (one
-// thread, seeded noise).
+// quality/floors.txt): the synthetic scenes whose answer is exact (the demo room's planes and
+// the things it holds, the pattern object's 26 faces, the LiDAR street's ground, up from the
+// scene on staircases) and the real data whose up is known (the labelled mOSD table tops, up
+// from the scene on mOSD, kitchen_dev and studyroom_dev, and the objects a frame of those two
+// rooms holds). One line per figure, "NAME VALUE"; a figure whose data is absent is printed as
+// "NAME skipped" with the reason on stderr. Every figure is deterministic: the same binary on
+// the same data prints the same lines (one thread, seeded noise).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +25,7 @@
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
+#include "hope/synthetic/staircase.h"
 #include "hope/tools/cli.h"
 #include "hope/up_estimation.h"
 
@@ -39,7 +40,8 @@ hope::tools::CommandLine commandLine() {
       "scripts/quality.sh to compare with quality/floors.txt.");
   cl.section("options")
       .value("--part", "NAME",
-             "synthetic (demo room, pattern object, LiDAR street), tables (mOSD table tops), "
+             "synthetic (demo room, pattern object, LiDAR street, staircases), tables (mOSD table "
+             "tops), "
              "levelling (up from the scene on mOSD, kitchen_dev, studyroom_dev) or rooms "
              "(objects per frame on kitchen_dev and studyroom_dev); default all")
       .value("--data", "DIR", "the shared data (default $HOPE_SHARED_DATA, else ../shared/data)");
@@ -188,6 +190,42 @@ void lidarFigures() {
   }
 }
 
+// Up from the scene on staircases seen by a Kinect v2 to 12 m (staircase.h): flights of 6, 12
+// and 16 steps, with and without far walls, from each of staircaseViews(). A view is answered
+// right (within 2° of the truth), refused, or answered wrong: a wrong answer is the risers and
+// a far wall taken for levels, or the flight's slope, and a refusal is the honest answer there.
+void staircaseFigures() {
+  using namespace hope::synthetic;
+  int right = 0, wrong = 0;
+  double worst = 0;
+  hope::UpEstimator estimator;
+  for (int steps : {6, 12, 16}) {
+    for (bool far_walls : {true, false}) {
+      StaircaseLayout layout;
+      layout.steps = steps;
+      layout.far_walls = far_walls;
+      const Scene stairs = staircase(layout);
+      for (const StaircaseView& view : staircaseViews(layout)) {
+        const RenderedFrame frame = stairs.render(view.camera, kinectV2Noise());
+        const auto cloud = hope::depthToCloud(frame.depth, view.camera.intrinsics, 1.0);
+        try {
+          const hope::UpEstimate e = estimator.estimate(hope::PointsView::of(cloud));
+          const double error =
+              hope::evaluation::angleDeg(e.up_in_sensor, hope::upInSensor(view.camera.pose));
+          (error <= 2.0 ? right : wrong) += 1;
+          worst = std::max(worst, error);
+        } catch (const hope::LevellingError&) {
+          // Refused: neither right nor wrong.
+        }
+      }
+    }
+  }
+  // Refused views are the rest of the 30.
+  print("stairs.up_right", right);
+  print("stairs.up_wrong", wrong);
+  print("stairs.up_error_deg.worst", worst);
+}
+
 // mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from
 // the labelled table (as hope_eval's section 6).
 void tableFigures(const std::string& data_dir) {
@@ -302,6 +340,7 @@ int run(const ParsedArgs& args) {
     demoRoomFigures();
     patternFigures();
     lidarFigures();
+    staircaseFigures();
   }
   if (part == "all" || part == "tables") tableFigures(data_dir);
   if (part == "all" || part == "levelling") levellingFigures(data_dir);

@@ -17,6 +17,7 @@
 #include "hope/evaluation/table_scenes.h"
 #include "hope/extractor.h"
 #include "hope/synthetic/lidar.h"
+#include "hope/synthetic/staircase.h"
 #include "hope/up_estimation.h"
 
 namespace hope {
@@ -51,6 +52,64 @@ View demoRoomView(double pitch_deg, double roll_deg) {
   const V eye(target.x() - horizontal * std::cos(0.1), target.y() - horizontal * std::sin(0.1),
               1.5);
   return render(synthetic::demoRoom(), cameraAt(eye, 0.1, pitch_deg * kDegree, roll_deg * kDegree));
+}
+
+// A storey-high flight of stairs seen by a Kinect v2, a wall 12–14 m away at either end, as on
+// the real staircase where a level camera's risers and far wall were taken for levels (up 90°
+// off). Every view is answered within 2° or refused; seen from above, where the floor below
+// and the treads face the camera, it is answered.
+TEST(UpEstimation, AStoreyOfStairsGivesTheTreadsOrARefusalNeverTheRisers) {
+  for (bool far_walls : {true, false}) {
+    synthetic::StaircaseLayout layout;  // 12 steps of 0.157 m: 1.88 m
+    layout.far_walls = far_walls;
+    const synthetic::Scene stairs = synthetic::staircase(layout);
+    int answered_from_above = 0;
+    for (const synthetic::StaircaseView& view : synthetic::staircaseViews(layout)) {
+      const synthetic::RenderedFrame frame = stairs.render(view.camera, synthetic::kinectV2Noise());
+      const auto cloud = depthToCloud(frame.depth, view.camera.intrinsics, 1.0);
+      const std::string name = view.name + (far_walls ? ", far walls" : ", no far walls");
+      UpEstimator estimator;
+      try {
+        const UpEstimate e = estimator.estimate(PointsView::of(cloud));
+        EXPECT_LT(angleDeg(e.up_in_sensor, upInSensor(view.camera.pose)), 2.0)
+            << name << ": " << e.describe();
+        answered_from_above += view.name.rfind("from above", 0) == 0;
+      } catch (const LevellingError& refused) {
+        EXPECT_EQ(view.name.rfind("from above", 0), std::string::npos)
+            << name << ": " << refused.what();
+      }
+    }
+    EXPECT_EQ(answered_from_above, 2) << (far_walls ? "far walls" : "no far walls");
+  }
+}
+
+// The refusal says why: a level camera facing the flight sees only risers receding and a far
+// wall, which would put the floor over 4.5 m below it.
+TEST(UpEstimation, RisersThatWouldPutTheFloorOutOfReachAreRefusedWithTheReason) {
+  synthetic::StaircaseLayout layout;
+  const auto views = synthetic::staircaseViews(layout);
+  const synthetic::StaircaseView& level = views.front();
+  ASSERT_EQ(level.name, "head-on, level");
+  const synthetic::RenderedFrame frame =
+      synthetic::staircase(layout).render(level.camera, synthetic::kinectV2Noise());
+  UpEstimator estimator;
+  try {
+    const UpEstimate e =
+        estimator.estimate(PointsView::of(depthToCloud(frame.depth, level.camera.intrinsics, 1.0)));
+    FAIL() << "answered: " << e.describe();
+  } catch (const LevellingError& refused) {
+    EXPECT_NE(std::string(refused.what()).find("below the camera"), std::string::npos)
+        << refused.what();
+    EXPECT_NE(std::string(refused.what()).find("max_floor_depth"), std::string::npos)
+        << refused.what();
+  }
+  // The bound is what refuses: raised (a camera on a mast may see its floor that deep), the
+  // risers' reading, a camera looking nearly straight down, comes through.
+  LevellingParams mast;
+  mast.max_floor_depth = 20.0;
+  const UpEstimate risers = UpEstimator(mast).estimate(
+      PointsView::of(depthToCloud(frame.depth, level.camera.intrinsics, 1.0)));
+  EXPECT_GT(risers.pitch_deg, 70.0) << risers.describe();
 }
 
 TEST(UpEstimation, DemoRoomAtEveryPitchAndRollWithinHalfADegree) {
@@ -276,6 +335,11 @@ TEST(UpEstimation, ParametersOutOfRangeAreNamed) {
   p = LevellingParams();
   p.min_support_area = NAN;
   EXPECT_NE(message(p).find("min_support_area"), std::string::npos);
+  p = LevellingParams();
+  p.max_floor_depth = 0;
+  EXPECT_NE(message(p).find("max_floor_depth"), std::string::npos);
+  p.max_floor_depth = NAN;
+  EXPECT_NE(message(p).find("max_floor_depth"), std::string::npos);
 }
 
 TEST(UpSmoother, BlendsSmallChangesAndStartsAfreshAfterATurn) {

@@ -23,7 +23,11 @@
 // Refusal. A scene with no level patch of LevellingParams::min_support_area gives no evidence
 // (a wall seen at an angle, a lone sphere, an empty cloud): LevellingError. So does a camera
 // that sees a single surface head-on and nothing else level: a wall in front of a level camera
-// and a floor under a camera looking straight down are the same picture.
+// and a floor under a camera looking straight down are the same picture. So does a camera's
+// scene whose only level structure would put its floor deeper than
+// LevellingParams::max_floor_depth below it: a level camera facing a flight of stairs sees
+// risers receding over metres and a far wall, which a camera looking straight down would take
+// for levels.
 #pragma once
 
 #include <cstdint>
@@ -70,6 +74,12 @@ struct LevellingParams {
   double max_correction_deg = 5.0;
   // Less level area than this (m², footprint at cell size) is no evidence.
   double min_support_area = 0.05;
+  // A camera's floor (the lowest level surface it sees) lies at most this far below it, metres:
+  // a camera held at a person's eye height (1.8 m) seeing one storey (2.7 m) further down a
+  // flight of stairs. An up that would put the floor deeper is no evidence (a level camera
+  // facing a staircase sees risers receding over metres, which a camera looking straight down
+  // would take for levels). Raise it for a camera on a mast or a drone. Cameras only.
+  double max_floor_depth = 4.5;
   UpPrior prior = UpPrior::kAuto;
 
   // The levelling that goes with an extraction: cells of 2·r_xy. Level surfaces are wide, and

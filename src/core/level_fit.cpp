@@ -213,6 +213,10 @@ LevelFit::Result LevelFit::fit(const Eigen::Vector3d& start, double first_tolera
     if (patch.cells < kSurfaceCells) continue;
     ++result.level_surfaces;
     heights.push_back(up.dot(patch.sum) / patch.cells);
+    if (result.level_surfaces == 1 || heights.back() < result.lowest_height) {
+      result.lowest_height = heights.back();
+      result.lowest_area = patch.cells * cell_ * cell_;
+    }
   }
   std::sort(heights.begin(), heights.end());
   for (std::size_t i = 0; i < heights.size(); ++i) {

@@ -113,6 +113,10 @@ void validate(const LevellingParams& params) {
     fail("levelling max_correction must be in (0, 30] degrees (got " +
          text(params.max_correction_deg) + ")");
   }
+  if (!(params.max_floor_depth > 0 && params.max_floor_depth <= 1e4)) {
+    fail("levelling max_floor_depth must be in (0, 1e4] m (got " + text(params.max_floor_depth) +
+         ")");
+  }
   if (!(params.min_support_area >= 0 && params.min_support_area <= 1e6)) {
     fail("levelling min_support_area must be in [0, 1e6] m² (got " + text(params.min_support_area) +
          ")");
@@ -368,9 +372,22 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   using Fit = detail::LevelFit::Result;
   std::vector<Fit> candidates;
   bool head_on_only = false;
+  std::optional<Fit> too_deep;  // the best candidate that put the floor out of reach
+  // A camera's floor lies at most max_floor_depth below it: an up under which the lowest level
+  // surface lies deeper is what a camera looking straight down a staircase's risers, or at a
+  // far wall, would take for levels (a level camera facing a flight of stairs sees risers
+  // receding over metres), not a scene a robot or a hand holds a camera over.
+  auto within_reach = [&](const Fit& c) {
+    return prior_ != UpPrior::kCamera || c.level_surfaces == 0 ||
+           -c.lowest_height <= params_.max_floor_depth;
+  };
   for (const Eigen::Vector3d& peak : histogramPeaks()) {
     const Fit c = fit_->fit(peak, kFirstToleranceDeg, 1);
     if (!c.supported || c.support_area < params_.min_support_area || !admissible(c.up)) continue;
+    if (!within_reach(c)) {
+      if (!too_deep || c.support_area > too_deep->support_area) too_deep = c;
+      continue;
+    }
     // One surface facing a camera head-on, nothing else level at another height: a wall in
     // front of a level camera and a floor under a camera looking straight down look the same,
     // so it is no evidence either way.
@@ -398,7 +415,19 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   std::optional<Fit> chosen;
   for (std::size_t k = 0; k < candidates.size() && k < kFinalists && !chosen; ++k) {
     const Fit c = fit_->fit(candidates[k].up, kFirstToleranceDeg, detail::LevelFit::kRounds);
-    if (c.supported && c.support_area >= params_.min_support_area && admissible(c.up)) chosen = c;
+    if (c.supported && c.support_area >= params_.min_support_area && admissible(c.up) &&
+        within_reach(c)) {
+      chosen = c;
+    }
+  }
+  if (!chosen && too_deep) {
+    throw LevellingError(
+        "cannot find up from the scene: the only level structure it shows would put the floor " +
+        formatted("%.1f m below the camera (pitched %.0f°), ", -too_deep->lowest_height,
+                  pitchDeg(too_deep->up)) +
+        formatted("deeper than the %.1f m a camera on a robot or in a hand stands above it ",
+                  params_.max_floor_depth) +
+        "(LevellingParams::max_floor_depth): risers or a far wall, not levels; " + options);
   }
   if (!chosen && head_on_only) {
     throw LevellingError(

@@ -197,7 +197,7 @@ void lidarFigures() {
 void staircaseFigures() {
   using namespace hope::synthetic;
   int right = 0, wrong = 0;
-  double worst = 0;
+  double worst = 0, refine_worst = 0;
   hope::UpEstimator estimator;
   for (int steps : {6, 12, 16}) {
     for (bool far_walls : {true, false}) {
@@ -208,11 +208,23 @@ void staircaseFigures() {
       for (const StaircaseView& view : staircaseViews(layout)) {
         const RenderedFrame frame = stairs.render(view.camera, kinectV2Noise());
         const auto cloud = hope::depthToCloud(frame.depth, view.camera.intrinsics, 1.0);
+        // Refinement from the true orientation: every degree it turns is error.
+        const hope::UpEstimate refined = estimator.refine(
+            hope::PointsView::of(cloud), hope::Orientation::fromTransform(view.camera.pose));
+        if (refined.applied) refine_worst = std::max(refine_worst, refined.correction_deg);
+        if (std::getenv("HOPE_QUALITY_VERBOSE")) {
+          std::fprintf(stderr, "refine %d steps, far walls %d, %s: %s\n", steps, int(far_walls),
+                       view.name.c_str(), refined.describe().c_str());
+        }
         try {
           const hope::UpEstimate e = estimator.estimate(hope::PointsView::of(cloud));
           const double error =
               hope::evaluation::angleDeg(e.up_in_sensor, hope::upInSensor(view.camera.pose));
           (error <= 2.0 ? right : wrong) += 1;
+          if (error > 2.0 && std::getenv("HOPE_QUALITY_VERBOSE")) {
+            std::fprintf(stderr, "stairs %d steps, far walls %d, %s: %.1f° off: %s\n", steps,
+                         int(far_walls), view.name.c_str(), error, e.describe().c_str());
+          }
           worst = std::max(worst, error);
         } catch (const hope::LevellingError&) {
           // Refused: neither right nor wrong.
@@ -224,6 +236,7 @@ void staircaseFigures() {
   print("stairs.up_right", right);
   print("stairs.up_wrong", wrong);
   print("stairs.up_error_deg.worst", worst);
+  print("stairs.refine_error_deg.worst", refine_worst);
 }
 
 // mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from

@@ -154,7 +154,7 @@ def margin(name, value):
     differences between compilers, never a real change. Counts get none."""
     if name.endswith(('idf1', 'idf1_area', 'id_ceiling', 'id_ceiling_area')):
         return 0.3  # percentage points, printed to 0.1; ~2 of a sequence's ~800 observations
-    if '.up_error_deg.' in name:
+    if '_deg.' in name:
         return 0.05  # degrees
     if name.endswith('height_error_mm'):
         return 0.1

@@ -112,6 +112,38 @@ TEST(UpEstimation, RisersThatWouldPutTheFloorOutOfReachAreRefusedWithTheReason) 
   EXPECT_GT(risers.pitch_deg, 70.0) << risers.describe();
 }
 
+// At the levelling's 10 cm cells a flight of stairs has a slope whose cells' normals agree (each
+// from its neighbours, across the steps): a level reading 20-40° off, which the treads' own
+// normals contradict. A short flight seen head-on is refused saying so; a long one seen from
+// 20° above level is answered with its treads.
+TEST(UpEstimation, AFlightsSlopeIsNotTakenForLevel) {
+  auto view = [](int steps, const std::string& name) {
+    synthetic::StaircaseLayout layout;
+    layout.steps = steps;
+    for (const synthetic::StaircaseView& v : synthetic::staircaseViews(layout)) {
+      if (v.name != name) continue;
+      const synthetic::RenderedFrame frame =
+          synthetic::staircase(layout).render(v.camera, synthetic::kinectV2Noise());
+      return std::make_pair(depthToCloud(frame.depth, v.camera.intrinsics, 1.0),
+                            upInSensor(v.camera.pose));
+    }
+    ADD_FAILURE() << "no view " << name;
+    return std::make_pair(pcl::PointCloud<pcl::PointXYZ>(), V(V::UnitZ()));
+  };
+  UpEstimator estimator;
+  const auto short_flight = view(6, "head-on, level");
+  try {
+    const UpEstimate e = estimator.estimate(PointsView::of(short_flight.first));
+    ADD_FAILURE() << "answered " << angleDeg(e.up_in_sensor, short_flight.second)
+                  << "° off: " << e.describe();
+  } catch (const LevellingError& refused) {
+    EXPECT_NE(std::string(refused.what()).find("own scale"), std::string::npos) << refused.what();
+  }
+  const auto long_flight = view(16, "head-on, 20° down");
+  const UpEstimate e = estimator.estimate(PointsView::of(long_flight.first));
+  EXPECT_LT(angleDeg(e.up_in_sensor, long_flight.second), 2.0) << e.describe();
+}
+
 TEST(UpEstimation, DemoRoomAtEveryPitchAndRollWithinHalfADegree) {
   UpEstimator estimator;
   int checked = 0;

@@ -27,7 +27,9 @@
 // scene whose only level structure would put its floor deeper than
 // LevellingParams::max_floor_depth below it: a level camera facing a flight of stairs sees
 // risers receding over metres and a far wall, which a camera looking straight down would take
-// for levels.
+// for levels. So does a reading whose level cells are not level at their own scale (most of
+// the clearly flat ones tilting from it): at 10 cm cells a flight of stairs has a slope whose
+// cells' normals agree, while its treads' own points tilt 20-40° from it.
 #pragma once
 
 #include <cstdint>
@@ -167,6 +169,18 @@ class UpEstimator {
   bool sensor_at_origin_ = true;
   VoxelGrid grid_;
   std::vector<Eigen::Vector3f> normals_;  // per voxel, facing the sensor when it is known
+  // Per voxel, the normal of its own points where they are clearly flat (NaN elsewhere): the
+  // surface at the cell's own scale, which a normal from the neighbouring cells smooths over.
+  // ownNormals() sums each voxel's points; ownNormal(v) fits and keeps v's normal when asked.
+  std::vector<int> own_count_;
+  std::vector<Eigen::Vector3d> own_sum_;
+  std::vector<Eigen::Matrix3d> own_outer_;
+  mutable std::vector<Eigen::Vector3f> own_normals_;
+  void ownNormals();
+  const Eigen::Vector3f& ownNormal(std::size_t v) const;
+  // Of the cells whose normal lies within the fit's last tolerance of `up` and whose own
+  // normal is known: how many, and the share whose own normal lies within kOwnAgreementDeg.
+  std::pair<int, double> ownAgreement(const Eigen::Vector3d& up) const;
   // The fit's view of the grid (src/core/level_fit.h), behind a pointer: private to the core.
   std::unique_ptr<detail::LevelFit> fit_;
 };

@@ -45,6 +45,22 @@ constexpr double kFirstToleranceDeg = 12.0;
 // Candidates are screened with one round of the fit; the best few get every round.
 constexpr int kFinalists = 2;
 
+// A cell's own normal: from at least this many of its points, where the least spread of them is
+// at most this share of the middle one (clearly flat: a 10 cm cell under ~6 mm thick).
+constexpr int kOwnNormalPoints = 5;
+constexpr double kOwnFlatness = 0.05;
+// The fit's last tolerance (level_fit.cpp's), and how far a support cell's own normal may lie
+// from up. A flight of stairs seen at 10 cm cells has a slope whose cells' normals (from their
+// neighbours, across the steps) agree: its treads' own normals lie 20-40° from that slope.
+constexpr double kLastToleranceDeg = 5.0;
+constexpr double kOwnAgreementDeg = 15.0;
+// Fewer support cells with an own normal than this tell nothing (far or noisy surfaces have
+// none: they are not counted against up); of more, at least this share must agree with up. On
+// real level surfaces half or more do (the finalists on kitchen_dev, studyroom_dev and mosd_dev:
+// 0.50 and up), on a flight's slope almost none (the synthetic flights: 0.00-0.11).
+constexpr int kMinOwnCells = 10;
+constexpr double kMinOwnAgreement = 0.3;
+
 // A camera pitched more than this sees surfaces that face it head-on; with a single one of them
 // the scene cannot tell a floor seen from above from a wall seen from a level camera.
 constexpr double kHeadOnPitchDeg = 70.0;
@@ -267,6 +283,54 @@ void UpEstimator::buildGrid(double cell) {
     }
   }
   fit_->reset(grid_, normals_);
+  ownNormals();
+}
+
+void UpEstimator::ownNormals() {
+  // The points' sums per voxel now; a voxel's normal only when a finalist's support asks.
+  const std::size_t n = grid_.numVoxels();
+  own_count_.assign(n, 0);
+  own_sum_.assign(n, Eigen::Vector3d::Zero());
+  own_outer_.assign(n, Eigen::Matrix3d::Zero());
+  const VoxelGrid::PointVoxels voxel_of = grid_.pointVoxels();
+  for (std::size_t i = 0; i < sample_.size() && i < voxel_of.size(); ++i) {
+    const std::int32_t v = voxel_of[i];
+    if (v < 0) continue;
+    const Eigen::Vector3d p = sample_[i].cast<double>();
+    ++own_count_[v], own_sum_[v] += p, own_outer_[v] += p * p.transpose();
+  }
+  own_normals_.assign(n, Eigen::Vector3f::Zero());  // zero: not computed yet
+}
+
+const Eigen::Vector3f& UpEstimator::ownNormal(std::size_t v) const {
+  Eigen::Vector3f& normal = own_normals_[v];
+  if (normal.isZero()) {
+    normal = Eigen::Vector3f::Constant(NAN);
+    const int count = own_count_[v];
+    if (count >= kOwnNormalPoints) {
+      const Eigen::Matrix3d scatter = own_outer_[v] - own_sum_[v] * own_sum_[v].transpose() / count;
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+      const Eigen::Vector3d& lambda = solver.eigenvalues();
+      if (lambda(0) <= kOwnFlatness * lambda(1))
+        normal = solver.eigenvectors().col(0).cast<float>();
+    }
+  }
+  return normal;
+}
+
+std::pair<int, double> UpEstimator::ownAgreement(const Eigen::Vector3d& up) const {
+  const float support = static_cast<float>(std::cos(kLastToleranceDeg * kDegree));
+  const float agree = static_cast<float>(std::cos(kOwnAgreementDeg * kDegree));
+  const Eigen::Vector3f u = up.cast<float>();
+  int cells = 0, agreeing = 0;
+  for (std::size_t v = 0; v < normals_.size(); ++v) {
+    if (!(std::fabs(normals_[v].dot(u)) >= support)) continue;
+    const Eigen::Vector3f& own = ownNormal(v);
+    if (!finite(own)) continue;
+    ++cells;
+    agreeing += std::fabs(own.dot(u)) >= agree;
+  }
+  return {cells, cells ? double(agreeing) / cells : 1.0};
 }
 
 bool UpEstimator::admissible(const Eigen::Vector3d& up) const {
@@ -373,6 +437,7 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   std::vector<Fit> candidates;
   bool head_on_only = false;
   std::optional<Fit> too_deep;  // the best candidate that put the floor out of reach
+  std::optional<Fit> sloped;    // the best finalist not level at its cells' own scale
   // A camera's floor lies at most max_floor_depth below it: an up under which the lowest level
   // surface lies deeper is what a camera looking straight down a staircase's risers, or at a
   // far wall, would take for levels (a level camera facing a flight of stairs sees risers
@@ -415,10 +480,25 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   std::optional<Fit> chosen;
   for (std::size_t k = 0; k < candidates.size() && k < kFinalists && !chosen; ++k) {
     const Fit c = fit_->fit(candidates[k].up, kFirstToleranceDeg, detail::LevelFit::kRounds);
-    if (c.supported && c.support_area >= params_.min_support_area && admissible(c.up) &&
-        within_reach(c)) {
-      chosen = c;
+    if (!c.supported || c.support_area < params_.min_support_area || !admissible(c.up) ||
+        !within_reach(c)) {
+      continue;
     }
+    // Level at the cells' own scale too: the treads of a flight of stairs, not its slope.
+    const auto [own_cells, own_share] = ownAgreement(c.up);
+    if (own_cells >= kMinOwnCells && own_share < kMinOwnAgreement) {
+      if (!sloped || c.support_area > sloped->support_area) sloped = c;
+      continue;
+    }
+    chosen = c;
+  }
+  if (!chosen && sloped) {
+    throw LevellingError(
+        "cannot find up from the scene: its level reading (camera pitched " +
+        formatted("%.0f°) is not level at the cells' own scale: ", pitchDeg(sloped->up)) +
+        "the surfaces it rests on tilt from it, as the treads of a flight of stairs tilt from "
+        "the flight's slope; " +
+        options);
   }
   if (!chosen && too_deep) {
     throw LevellingError(

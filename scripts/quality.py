@@ -9,8 +9,9 @@ helps one figure and hurts another is seen before it lands. Run it after the bui
 
 Figures, each one line "NAME VALUE BOUND ok|FAIL" (docs/quality.md says what each measures):
 - hope_quality (C++, in-process): the demo room's planes and objects against its truth, the
-  pattern object's 26 faces, the simulated LiDAR streets' ground, mOSD's table tops, up from
-  the scene on mosd_dev, kitchen_dev and studyroom_dev, and objects per frame in those rooms;
+  pattern object's 26 faces, the simulated LiDAR streets' ground, up from the scene on
+  synthetic staircases, mOSD's table tops, up from the scene on mosd_dev, kitchen_dev and
+  studyroom_dev, and objects per frame in those rooms;
 - ../shared/tools/objects_score.py on mosd_dev: objects and placements;
 - ../shared/tools/id_accuracy.py on kitchen_dev and studyroom_dev, run with the world poses,
   (the surface map and the improved tracker), with the accelerometer and with --level, and
@@ -39,7 +40,8 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get('HOPE_BIN_DIR') or os.path.join(ROOT, 'build', 'devel', 'lib', 'hope')
 DATA = os.environ.get('HOPE_SHARED_DATA') or os.path.join(ROOT, '..', 'shared', 'data')
-TOOLS = os.path.join(os.path.dirname(os.path.abspath(DATA)), 'tools')
+TOOLS = os.environ.get('HOPE_SHARED_TOOLS') or os.path.join(os.path.dirname(os.path.abspath(DATA)),
+                                                              'tools')
 SKIPPED = 'skipped'
 # The recorded sequences and the intrinsics their depth images were taken with.
 SEQUENCES = {'kitchen': 'kitchen_dev', 'studyroom': 'studyroom_dev'}
@@ -60,12 +62,33 @@ def number(pattern, text, what):
     return float(m.group(1))
 
 
-def hope_quality(part):
+def parse_figures(lines, where):
+    """'NAME VALUE' lines (blank ones skipped) as {name: value or SKIPPED}."""
     figures = {}
-    for line in run([os.path.join(BIN, 'hope_quality'), '--part', part, '--data', DATA]).splitlines():
-        name, value = line.split()
-        figures[name] = SKIPPED if value == SKIPPED else float(value)
+    for number_, line in enumerate(lines, 1):
+        fields = line.split()
+        if not fields:
+            continue
+        if len(fields) != 2 or not (fields[1] == SKIPPED or re.fullmatch(r'-?[0-9.]+(?:e[-+]?\d+)?|nan|inf', fields[1])):
+            raise ValueError(f'{where}:{number_}: expected "NAME VALUE", got {line.strip()!r}')
+        figures[fields[0]] = SKIPPED if fields[1] == SKIPPED else float(fields[1])
     return figures
+
+
+def hope_quality(part):
+    out = run([os.path.join(BIN, 'hope_quality'), '--part', part, '--data', DATA])
+    return parse_figures(out.splitlines(), f'hope_quality --part {part}')
+
+
+def scorer(name, data_folder):
+    """The shared scorer `name`, or None when its data is absent (its figures are skipped); an
+    error when the data is there and the scorer is not: a figure must not skip silently."""
+    if not os.path.isdir(data_folder):
+        return None
+    path = os.path.join(TOOLS, name)
+    if not os.path.isfile(path):
+        raise RuntimeError(f'{data_folder} is there but {path} is not (set HOPE_SHARED_TOOLS)')
+    return path
 
 
 OBJECT_FIGURES = ['mosd.objects.wov', 'mosd.objects.parts_found', 'mosd.objects.parts_found_0.8',
@@ -74,10 +97,10 @@ OBJECT_FIGURES = ['mosd.objects.wov', 'mosd.objects.parts_found', 'mosd.objects.
 
 
 def mosd_objects():
-    scorer = os.path.join(TOOLS, 'objects_score.py')
-    if not os.path.isdir(os.path.join(DATA, 'mosd_dev')) or not os.path.isfile(scorer):
+    score = scorer('objects_score.py', os.path.join(DATA, 'mosd_dev'))
+    if not score:
         return {name: SKIPPED for name in OBJECT_FIGURES}
-    out = run([sys.executable, scorer, os.path.join(BIN, 'hope_extract'), '--data',
+    out = run([sys.executable, score, os.path.join(BIN, 'hope_extract'), '--data',
                os.path.join(DATA, 'mosd_dev')], timeout=900)
     what = 'objects_score.py'
     return {
@@ -103,17 +126,17 @@ ID_FIGURES = ['idf1', 'idf1_area', 'ids_per_surface']
 
 def identities(sequence, mode):
     folder = os.path.join(DATA, SEQUENCES[sequence])
-    scorer = os.path.join(TOOLS, 'id_accuracy.py')
     names = [f'{sequence}.{mode}.{f}' for f in ID_FIGURES]
     if mode == 'poses':
         names += [f'{sequence}.poses.id_ceiling', f'{sequence}.poses.id_ceiling_area']
-    if not os.path.isfile(os.path.join(folder, 'depth.txt')) or not os.path.isfile(scorer):
+    accuracy = scorer('id_accuracy.py', folder)
+    if not accuracy:
         return {name: SKIPPED for name in names}
     with tempfile.TemporaryDirectory() as tmp:
         jsonl = os.path.join(tmp, 'run.jsonl')
         run([os.path.join(BIN, 'hope_extract'), '--sequence', folder, '--jsonl', jsonl, '--quiet']
             + [a.format(dir=folder) for a in ID_MODES[mode]], timeout=900)
-        score = [sys.executable, scorer, jsonl] + (
+        score = [sys.executable, accuracy, jsonl] + (
             ['--world'] if mode in ('poses', 'improved') else ['--poses', os.path.join(folder, 'groundtruth.txt')])
         out = run(score)
         what = f'id_accuracy.py on {sequence} ({mode})'
@@ -206,12 +229,13 @@ def read_floors(path):
 
 
 def read_figures(path):
-    """Figures as --figures-only prints them."""
-    figures = {}
-    for line in open(path):
-        name, value = line.split()
-        figures[name] = SKIPPED if value == SKIPPED else float(value)
-    return figures
+    """Figures as --figures-only prints them; exits 2 on a line that is not one."""
+    try:
+        with open(path) as f:
+            return parse_figures(f.read().splitlines(), path)
+    except (OSError, ValueError) as e:
+        print(f'quality: {e}', file=sys.stderr)
+        sys.exit(2)
 
 
 def compare(floors, figures):

@@ -215,7 +215,6 @@ LevelFit::Result LevelFit::fit(const Eigen::Vector3d& start, double first_tolera
     heights.push_back(up.dot(patch.sum) / patch.cells);
     if (result.level_surfaces == 1 || heights.back() < result.lowest_height) {
       result.lowest_height = heights.back();
-      result.lowest_area = patch.cells * cell_ * cell_;
     }
   }
   std::sort(heights.begin(), heights.end());

@@ -23,10 +23,9 @@ class LevelFit {
     double angle_spread_deg = 0;  // RMS angle of their cells' normals from up
     int level_surfaces = 0;       // patches of kSurfaceCells or more
     int level_heights = 0;        // their distinct heights
-    // The lowest level surface's height along up, and its area (m², footprint at cell size), in
-    // the grid's frame: with the sensor at the origin, how far below it the floor would be.
+    // The lowest level surface's height along up, in the grid's frame: with the sensor at the
+    // origin, how far below it the floor would be.
     double lowest_height = 0;
-    double lowest_area = 0;
   };
 
   // The cells (centroids, normals, 26-neighbourhood) of `grid`, read once for every fit.

@@ -45,10 +45,13 @@ constexpr double kFirstToleranceDeg = 12.0;
 // Candidates are screened with one round of the fit; the best few get every round.
 constexpr int kFinalists = 2;
 
-// A cell's own normal: from at least this many of its points, where the least spread of them is
-// at most this share of the middle one (clearly flat: a 10 cm cell under ~6 mm thick).
+// A cell's own normal: from at least this many of its points, where the least variance of them
+// is at most kOwnFlatness of the middle one (clearly flat: across a 10 cm cell, an RMS
+// thickness under about 6.5 mm) and the middle one at least kOwnWidth of the largest (a patch,
+// not a line: the points of one image row lie in one plane through the camera).
 constexpr int kOwnNormalPoints = 5;
 constexpr double kOwnFlatness = 0.05;
+constexpr double kOwnWidth = 0.1;
 // The fit's last tolerance (level_fit.cpp's), and how far a support cell's own normal may lie
 // from up. A flight of stairs seen at 10 cm cells has a slope whose cells' normals (from their
 // neighbours, across the steps) agree: its treads' own normals lie 20-40° from that slope.
@@ -311,8 +314,9 @@ const Eigen::Vector3f& UpEstimator::ownNormal(std::size_t v) const {
       const Eigen::Matrix3d scatter = own_outer_[v] - own_sum_[v] * own_sum_[v].transpose() / count;
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
       const Eigen::Vector3d& lambda = solver.eigenvalues();
-      if (lambda(0) <= kOwnFlatness * lambda(1))
+      if (lambda(0) <= kOwnFlatness * lambda(1) && lambda(1) >= kOwnWidth * lambda(2)) {
         normal = solver.eigenvectors().col(0).cast<float>();
+      }
     }
   }
   return normal;
@@ -480,8 +484,9 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   std::optional<Fit> chosen;
   for (std::size_t k = 0; k < candidates.size() && k < kFinalists && !chosen; ++k) {
     const Fit c = fit_->fit(candidates[k].up, kFirstToleranceDeg, detail::LevelFit::kRounds);
-    if (!c.supported || c.support_area < params_.min_support_area || !admissible(c.up) ||
-        !within_reach(c)) {
+    if (!c.supported || c.support_area < params_.min_support_area || !admissible(c.up)) continue;
+    if (!within_reach(c)) {
+      if (!too_deep || c.support_area > too_deep->support_area) too_deep = c;
       continue;
     }
     // Level at the cells' own scale too: the treads of a flight of stairs, not its slope.

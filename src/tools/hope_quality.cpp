@@ -198,6 +198,7 @@ void staircaseFigures() {
   using namespace hope::synthetic;
   int right = 0, wrong = 0;
   double worst = 0, refine_worst = 0;
+  int refine_applied = 0;  // a refinement not applied (nothing level in reach) measures nothing
   hope::UpEstimator estimator;
   for (int steps : {6, 12, 16}) {
     for (bool far_walls : {true, false}) {
@@ -211,7 +212,10 @@ void staircaseFigures() {
         // Refinement from the true orientation: every degree it turns is error.
         const hope::UpEstimate refined = estimator.refine(
             hope::PointsView::of(cloud), hope::Orientation::fromTransform(view.camera.pose));
-        if (refined.applied) refine_worst = std::max(refine_worst, refined.correction_deg);
+        if (refined.applied) {
+          refine_worst = std::max(refine_worst, refined.correction_deg);
+          ++refine_applied;
+        }
         if (std::getenv("HOPE_QUALITY_VERBOSE")) {
           std::fprintf(stderr, "refine %d steps, far walls %d, %s: %s\n", steps, int(far_walls),
                        view.name.c_str(), refined.describe().c_str());
@@ -237,6 +241,7 @@ void staircaseFigures() {
   print("stairs.up_wrong", wrong);
   print("stairs.up_error_deg.worst", worst);
   print("stairs.refine_error_deg.worst", refine_worst);
+  print("stairs.refine_applied", refine_applied);
 }
 
 // mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from
@@ -299,8 +304,11 @@ void levellingFigures(const std::string& data_dir) {
     if (!missing.empty()) {
       for (const char* figure : {"median", "worst"}) skipped(prefix + figure, missing[0]);
       skipped(g.name + ".up_refused", missing[0]);
+      if (g.data != hope::evaluation::kMosd) skipped(g.name + ".frames", missing[0]);
       continue;
     }
+    // Every frame of a sequence read (a depth image that cannot be read is left out).
+    if (g.data != hope::evaluation::kMosd) print(g.name + ".frames", g.errors.size() + g.refused);
     // A group where every cloud was refused has no error to give: the worst there is, 180°.
     print(prefix + "median", g.errors.empty() ? 180.0 : median(g.errors));
     print(prefix + "worst",
@@ -327,12 +335,13 @@ void roomObjectFigures(const std::string& data_dir) {
         },
         missing, data);
     const std::string prefix = name + ".objects_per_frame.";
-    if (!missing.empty() || counts.empty()) {
-      for (const char* figure : {"median", "max"}) {
-        skipped(prefix + figure, missing.empty() ? "no frames" : missing[0]);
-      }
+    if (!missing.empty()) {
+      for (const char* figure : {"median", "max"}) skipped(prefix + figure, missing[0]);
       continue;
     }
+    // The data is there but gave no frame: nothing printed, so the guard fails them as not
+    // measured (and the frames figure of the levelling part says how many were read).
+    if (counts.empty()) continue;
     print(prefix + "median", median(counts));
     print(prefix + "max", *std::max_element(counts.begin(), counts.end()));
   }

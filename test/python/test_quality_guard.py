@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The quality guard (scripts/quality.py) itself: it fails a figure below its floor or above its
-ceiling, one that was not measured, and a malformed floors file; it skips, without failing,
-figures whose data is absent; --raise tightens a floor a figure beats and never loosens one;
+ceiling, one that was not measured (a scorer missing beside its data too), and a malformed
+floors or figures file; it skips, without failing, figures whose data is absent; --raise tightens a floor a figure beats and never loosens one;
 and every floor in quality/floors.txt names a figure the guard measures.
 Needs the built hope_quality (HOPE_BIN_DIR, default build/devel/lib/hope)."""
 import os
@@ -63,6 +63,27 @@ class QualityGuard(unittest.TestCase):
         code, _, err = guard('--figures', figures, floors=floors)
         self.assertEqual(code, 2)
         self.assertIn('floors.txt:2', err)
+
+    def test_a_malformed_figures_file_is_refused_and_blank_lines_are_not(self):
+        floors = self.write('floors.txt', 'a.iou >= 0.9\n')
+        code, out, err = guard('--figures', self.write('ok.txt', '\na.iou 0.95\n\n'), floors=floors)
+        self.assertEqual(code, 0, out + err)
+        code, _, err = guard('--figures', self.write('bad.txt', 'a.iou 0.95\nb.noise\n'), floors=floors)
+        self.assertEqual(code, 2)
+        self.assertIn('bad.txt:2', err)
+
+    def test_a_scorer_missing_beside_present_data_fails_rather_than_skips(self):
+        data = os.path.join(self.tmp.name, 'data')
+        os.makedirs(os.path.join(data, 'mosd_dev'))
+        env_tools = os.path.join(self.tmp.name, 'no_tools')
+        os.environ['HOPE_SHARED_TOOLS'] = env_tools
+        try:
+            code, out, err = guard(data=data)
+        finally:
+            del os.environ['HOPE_SHARED_TOOLS']
+        self.assertEqual(code, 1, out + err)
+        self.assertIn('objects_score.py is not', err)
+        self.assertRegex(out, r'mosd\.objects\.wov - \S+ FAIL \(not measured\)')
 
     def test_raise_tightens_what_a_figure_beats_and_loosens_nothing(self):
         figures = self.write('figures.txt', 'a.iou 0.95\nb.noise 1\nc.idf1 60\nd.count 7\n')

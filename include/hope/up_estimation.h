@@ -171,16 +171,18 @@ class UpEstimator {
   std::vector<Eigen::Vector3f> normals_;  // per voxel, facing the sensor when it is known
   // Per voxel, the normal of its own points where they are clearly flat (NaN elsewhere): the
   // surface at the cell's own scale, which a normal from the neighbouring cells smooths over.
-  // ownNormals() sums each voxel's points; ownNormal(v) fits and keeps v's normal when asked.
+  // ownNormals() sums each voxel's points (once per grid, on the first ownAgreement());
+  // ownNormal(v) fits and keeps v's normal when asked.
   std::vector<int> own_count_;
   std::vector<Eigen::Vector3d> own_sum_;
   std::vector<Eigen::Matrix3d> own_outer_;
-  mutable std::vector<Eigen::Vector3f> own_normals_;
+  std::vector<Eigen::Vector3f> own_normals_;
+  bool own_sums_ready_ = false;
   void ownNormals();
-  const Eigen::Vector3f& ownNormal(std::size_t v) const;
+  const Eigen::Vector3f& ownNormal(std::size_t v);
   // Of the cells whose normal lies within the fit's last tolerance of `up` and whose own
   // normal is known: how many, and the share whose own normal lies within kOwnAgreementDeg.
-  std::pair<int, double> ownAgreement(const Eigen::Vector3d& up) const;
+  std::pair<int, double> ownAgreement(const Eigen::Vector3d& up);
   // The fit's view of the grid (src/core/level_fit.h), behind a pointer: private to the core.
   std::unique_ptr<detail::LevelFit> fit_;
 };

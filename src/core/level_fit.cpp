@@ -12,8 +12,6 @@ namespace detail {
 namespace {
 
 constexpr double kDegree = M_PI / 180.0;
-// The last round's tolerance keeps ramps of more than ~5° out.
-constexpr double kLastToleranceDeg = 5.0;
 constexpr int kMinPatchCells = 3;
 // A patch of this many cells or more counts as a level surface.
 constexpr int kSurfaceCells = 6;

@@ -37,6 +37,8 @@ class LevelFit {
   Result fit(const Eigen::Vector3d& start, double first_tolerance_deg, int rounds) const;
 
   static constexpr int kRounds = 4;
+  // The last round's tolerance, degrees: it keeps ramps of more than ~5° out.
+  static constexpr double kLastToleranceDeg = 5.0;
 
  private:
   struct Patch;

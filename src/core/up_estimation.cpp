@@ -52,10 +52,9 @@ constexpr int kFinalists = 2;
 constexpr int kOwnNormalPoints = 5;
 constexpr double kOwnFlatness = 0.05;
 constexpr double kOwnWidth = 0.1;
-// The fit's last tolerance (level_fit.cpp's), and how far a support cell's own normal may lie
-// from up. A flight of stairs seen at 10 cm cells has a slope whose cells' normals (from their
-// neighbours, across the steps) agree: its treads' own normals lie 20-40° from that slope.
-constexpr double kLastToleranceDeg = 5.0;
+// How far a support cell's own normal may lie from up. A flight of stairs seen at 10 cm cells
+// has a slope whose cells' normals (from their neighbours, across the steps) agree: its
+// treads' own normals lie 20-40° from that slope.
 constexpr double kOwnAgreementDeg = 15.0;
 // Fewer support cells with an own normal than this tell nothing (far or noisy surfaces have
 // none: they are not counted against up); of more, at least this share must agree with up. On
@@ -286,7 +285,7 @@ void UpEstimator::buildGrid(double cell) {
     }
   }
   fit_->reset(grid_, normals_);
-  ownNormals();
+  own_sums_ready_ = false;  // summed when a finalist first asks (estimate(), not refine())
 }
 
 void UpEstimator::ownNormals() {
@@ -305,7 +304,7 @@ void UpEstimator::ownNormals() {
   own_normals_.assign(n, Eigen::Vector3f::Zero());  // zero: not computed yet
 }
 
-const Eigen::Vector3f& UpEstimator::ownNormal(std::size_t v) const {
+const Eigen::Vector3f& UpEstimator::ownNormal(std::size_t v) {
   Eigen::Vector3f& normal = own_normals_[v];
   if (normal.isZero()) {
     normal = Eigen::Vector3f::Constant(NAN);
@@ -322,8 +321,11 @@ const Eigen::Vector3f& UpEstimator::ownNormal(std::size_t v) const {
   return normal;
 }
 
-std::pair<int, double> UpEstimator::ownAgreement(const Eigen::Vector3d& up) const {
-  const float support = static_cast<float>(std::cos(kLastToleranceDeg * kDegree));
+std::pair<int, double> UpEstimator::ownAgreement(const Eigen::Vector3d& up) {
+  if (!own_sums_ready_) ownNormals();
+  own_sums_ready_ = true;
+  // The support: the cells the fit's last round takes.
+  const float support = static_cast<float>(std::cos(detail::LevelFit::kLastToleranceDeg * kDegree));
   const float agree = static_cast<float>(std::cos(kOwnAgreementDeg * kDegree));
   const Eigen::Vector3f u = up.cast<float>();
   int cells = 0, agreeing = 0;

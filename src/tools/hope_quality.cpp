@@ -35,7 +35,7 @@ using hope::tools::ParsedArgs;
 
 hope::tools::CommandLine commandLine() {
   hope::tools::CommandLine cl(
-      "hope_quality", {"[--part synthetic|tables|levelling|rooms] [--data DIR]"},
+      "hope_quality", {"[--part synthetic|tables|levelling|rooms] [--data DIR] [--verbose]"},
       "Prints the quality guard's in-process figures, one \"NAME VALUE\" line each, for "
       "scripts/quality.sh to compare with quality/floors.txt.");
   cl.section("options")
@@ -44,7 +44,9 @@ hope::tools::CommandLine commandLine() {
              "tops), "
              "levelling (up from the scene on mOSD, kitchen_dev, studyroom_dev) or rooms "
              "(objects per frame on kitchen_dev and studyroom_dev); default all")
-      .value("--data", "DIR", "the shared data (default $HOPE_SHARED_DATA, else ../shared/data)");
+      .value("--data", "DIR", "the shared data (default $HOPE_SHARED_DATA, else ../shared/data)")
+      .flag("--verbose",
+            "on stderr: each staircase view's refinement, and each view answered wrong");
   return cl;
 }
 
@@ -194,7 +196,8 @@ void lidarFigures() {
 // and 16 steps, with and without far walls, from each of staircaseViews(). A view is answered
 // right (within 2° of the truth), refused, or answered wrong: a wrong answer is the risers and
 // a far wall taken for levels, or the flight's slope, and a refusal is the honest answer there.
-void staircaseFigures() {
+// `verbose`: each refinement and each view answered wrong, on stderr (what issue 42 works on).
+void staircaseFigures(bool verbose) {
   using namespace hope::synthetic;
   int right = 0, wrong = 0;
   double worst = 0, refine_worst = 0;
@@ -216,7 +219,7 @@ void staircaseFigures() {
           refine_worst = std::max(refine_worst, refined.correction_deg);
           ++refine_applied;
         }
-        if (std::getenv("HOPE_QUALITY_VERBOSE")) {
+        if (verbose) {
           std::fprintf(stderr, "refine %d steps, far walls %d, %s: %s\n", steps, int(far_walls),
                        view.name.c_str(), refined.describe().c_str());
         }
@@ -225,7 +228,7 @@ void staircaseFigures() {
           const double error =
               hope::evaluation::angleDeg(e.up_in_sensor, hope::upInSensor(view.camera.pose));
           (error <= 2.0 ? right : wrong) += 1;
-          if (error > 2.0 && std::getenv("HOPE_QUALITY_VERBOSE")) {
+          if (error > 2.0 && verbose) {
             std::fprintf(stderr, "stairs %d steps, far walls %d, %s: %.1f° off: %s\n", steps,
                          int(far_walls), view.name.c_str(), error, e.describe().c_str());
           }
@@ -362,7 +365,7 @@ int run(const ParsedArgs& args) {
     demoRoomFigures();
     patternFigures();
     lidarFigures();
-    staircaseFigures();
+    staircaseFigures(args.flag("--verbose"));
   }
   if (part == "all" || part == "tables") tableFigures(data_dir);
   if (part == "all" || part == "levelling") levellingFigures(data_dir);

@@ -43,7 +43,7 @@ DATA = os.environ.get('HOPE_SHARED_DATA') or os.path.join(ROOT, '..', 'shared', 
 TOOLS = os.environ.get('HOPE_SHARED_TOOLS') or os.path.join(os.path.dirname(os.path.abspath(DATA)),
                                                               'tools')
 SKIPPED = 'skipped'
-# The recorded sequences and the intrinsics their depth images were taken with.
+# The recorded sequences: figure prefix -> folder under the shared data (each has its own intrinsics.txt).
 SEQUENCES = {'kitchen': 'kitchen_dev', 'studyroom': 'studyroom_dev'}
 
 

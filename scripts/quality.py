@@ -118,9 +118,11 @@ def mosd_objects():
 
 # The orientation each identity run is given, and how id_accuracy.py maps its planes into the
 # world: poses (full, the sequence's groundtruth.txt: planes already in the world; the surface
-# map, the default with poses, and the improved tracker), the accelerometer alone and up from the scene alone (--level), both scored through the true poses.
+# map, the default with poses, and the improved tracker), the accelerometer alone and up from
+# the scene alone (--orientation-source scene), both scored through the true poses.
 ID_MODES = {'poses': [], 'improved': ['--tracking', 'improved'],
-            'accel': ['--accelerometer', '{dir}/accelerometer.txt'], 'level': ['--level']}
+            'accel': ['--accelerometer', '{dir}/accelerometer.txt'],
+            'level': ['--orientation-source', 'scene']}
 ID_FIGURES = ['idf1', 'idf1_area', 'ids_per_surface']
 
 

@@ -265,7 +265,7 @@ TEST_F(Sequence, ClearErrorsForBadSequences) {
   EXPECT_NE(r.output.find("no frames"), std::string::npos) << r.output;
   r = run("--sequence " + dir_ + " --tracking best --rpy \"0 0 0\"");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("paper or improved"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("improved, paper, map"), std::string::npos) << r.output;
   r = run("--input x.pcd --jsonl out.jsonl");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("goes with --sequence"), std::string::npos) << r.output;

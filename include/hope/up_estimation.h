@@ -199,7 +199,9 @@ class UpSmoother {
   // `weight`: the share of each new frame, in (0, 1]; 1 keeps no history.
   explicit UpSmoother(double weight = 0.3, double reset_deg = 10.0);
   // Adds one frame's unit direction; returns the running one.
-  const Eigen::Vector3d& add(const Eigen::Vector3d& up);
+  const Eigen::Vector3d& add(const Eigen::Vector3d& up) { return add(up, weight_); }
+  // The same with this frame's own share, in (0, 1] (frames further apart in time weigh more).
+  const Eigen::Vector3d& add(const Eigen::Vector3d& up, double weight);
   bool empty() const { return frames_ == 0; }
   const Eigen::Vector3d& value() const { return value_; }
   // Frames since the running direction started (afresh).

@@ -603,14 +603,15 @@ Orientation levelledTo(const Orientation& given, const Eigen::Vector3d& up_in_se
 UpSmoother::UpSmoother(double weight, double reset_deg)
     : weight_(std::clamp(weight, 1e-3, 1.0)), cos_reset_(std::cos(reset_deg * kDegree)) {}
 
-const Eigen::Vector3d& UpSmoother::add(const Eigen::Vector3d& up) {
+const Eigen::Vector3d& UpSmoother::add(const Eigen::Vector3d& up, double weight) {
+  weight = std::clamp(weight, 1e-3, 1.0);
   const Eigen::Vector3d unit = up.normalized();
   if (frames_ == 0 || value_.dot(unit) < cos_reset_) {
     value_ = unit;
     frames_ = 1;
     return value_;
   }
-  value_ = ((1 - weight_) * value_ + weight_ * unit).normalized();
+  value_ = ((1 - weight) * value_ + weight * unit).normalized();
   ++frames_;
   return value_;
 }

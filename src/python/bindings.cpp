@@ -21,9 +21,11 @@
 
 #include "hope/depth_image.h"
 #include "hope/extractor.h"
+#include "hope/frame_pipeline.h"
 #include "hope/plane_colors.h"
 #include "hope/plane_tracker.h"
 #include "hope/surface_map.h"
+#include "hope/tools/io.h"
 #include "hope/up_estimation.h"
 
 namespace py = pybind11;
@@ -38,6 +40,13 @@ struct ExtractionResult {
   py::object object_labels = py::none();  // with objects=True: int32 per point, -1 for none
   // What up from the scene found (level=True), or nothing.
   std::optional<hope::UpEstimate> levelling;
+  // Pipeline.process only: the ids' events, why the frame was skipped (empty: it was not),
+  // whether the last up was held or time went back, and the frame (its points kept) that
+  // Pipeline.place answers on.
+  std::vector<hope::TrackEvent> events;
+  std::string skipped;
+  bool level_held = false, time_jump = false;
+  std::shared_ptr<const hope::Frame> frame;
 };
 
 std::string shapeText(const py::array& array) {
@@ -158,6 +167,34 @@ hope::PointsView pointsOf(const py::array& points, py::array& converted) {
   return view;
 }
 
+// The index into `planes` of the plane with id `plane_id` (None: -1, any plane); ValueError
+// naming `where` when no plane has it.
+int planeIndexOf(const std::vector<hope::HorizontalPlane>& planes, const py::object& plane_id,
+                 const char* where) {
+  if (plane_id.is_none()) return -1;
+  const int id = plane_id.cast<int>();
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    if (planes[p].id == id) return static_cast<int>(p);
+  }
+  throw py::value_error("plane_id " + std::to_string(id) + " is not a plane of " + where);
+}
+
+// Placements as dicts: plane_id, x, y, z, yaw, margin.
+py::list placementDicts(const std::vector<hope::Placement>& placements) {
+  py::list out;
+  for (const hope::Placement& p : placements) {
+    py::dict d;
+    d["plane_id"] = p.plane_id;
+    d["x"] = p.centre.x();
+    d["y"] = p.centre.y();
+    d["z"] = p.centre.z();
+    d["yaw"] = p.yaw;
+    d["margin"] = p.margin;
+    out.append(d);
+  }
+  return out;
+}
+
 // The Python-facing extractor: one core Extractor (it reuses its buffers between calls) and a
 // lock, since the GIL is released while it runs.
 class PyExtractor {
@@ -247,34 +284,13 @@ class PyExtractor {
     hope::PlacementQuery query;
     query.footprint = {width, depth, clearance};
     query.max_results = max_results;
-    if (!plane_id.is_none()) {
-      const int id = plane_id.cast<int>();
-      query.plane_index = -2;
-      for (std::size_t p = 0; p < last_->planes.size(); ++p) {
-        if (last_->planes[p].id == id) query.plane_index = static_cast<int>(p);
-      }
-      if (query.plane_index < 0) {
-        throw py::value_error("plane_id " + std::to_string(id) +
-                              " is not a plane of the last call");
-      }
-    }
+    query.plane_index = planeIndexOf(last_->planes, plane_id, "the last call");
     std::vector<hope::Placement> placements;
     {
       py::gil_scoped_release released;
       placements = extractor_.findPlacements(*last_, query);
     }
-    py::list out;
-    for (const hope::Placement& p : placements) {
-      py::dict d;
-      d["plane_id"] = p.plane_id;
-      d["x"] = p.centre.x();
-      d["y"] = p.centre.y();
-      d["z"] = p.centre.z();
-      d["yaw"] = p.yaw;
-      d["margin"] = p.margin;
-      out.append(d);
-    }
-    return out;
+    return placementDicts(placements);
   }
 
   const hope::Params& params() const { return extractor_.params(); }
@@ -285,6 +301,123 @@ class PyExtractor {
   std::optional<hope::Result> last_;              // the last extract(objects=True) result
   std::mutex mutex_;
 };
+
+// The Python-facing frame pipeline (frame_pipeline.h): the policy of the nodelet and of
+// hope_extract --sequence, frame by frame.
+class PyPipeline {
+ public:
+  explicit PyPipeline(const hope::PipelineOptions& options) : pipeline_(options) {}
+
+  ExtractionResult process(const py::array& points, double stamp, const py::object& gravity,
+                           const py::object& quaternion, const py::object& pose,
+                           const py::object& transform, const py::object& viewpoint,
+                           bool placements) {
+    std::optional<Eigen::Vector3d> force;
+    hope::Orientation given = hope::Orientation::identity();
+    if (!gravity.is_none()) {
+      if (!quaternion.is_none() || !pose.is_none() || !transform.is_none()) {
+        throw py::value_error(
+            "give at most one of gravity, quaternion, pose and transform (the sensor's "
+            "orientation)");
+      }
+      const auto g = numbers(gravity, 3, "gravity", "(an accelerometer sample, sensor frame)");
+      force = Eigen::Vector3d(g[0], g[1], g[2]);
+    } else {
+      given = orientationOf(py::none(), quaternion, pose, transform, py::none());
+    }
+    // A cloud in its sensor's frame: the sensor at the origin unless told.
+    const Eigen::Vector3d at =
+        viewpoint.is_none() ? Eigen::Vector3d::Zero() : viewpointOf(viewpoint);
+    if (!viewpoint.is_none() || (quaternion.is_none() && pose.is_none() && transform.is_none())) {
+      given = given.withViewpoint(at);
+    }
+    hope::FrameOutputs outputs;
+    outputs.keep_points = placements;
+    py::array converted;
+    const hope::PointsView view = pointsOf(points, converted);
+    auto frame = std::make_shared<hope::Frame>();
+    {
+      py::gil_scoped_release released;
+      std::lock_guard<std::mutex> lock(mutex_);
+      *frame = force ? pipeline_.processWithGravity(view, stamp, *force, outputs, at)
+                     : pipeline_.process(view, stamp, given, outputs);
+    }
+    ExtractionResult out;
+    out.result = frame->result;
+    out.levelling = frame->levelling;
+    out.events = frame->events;
+    out.skipped = frame->processed ? std::string() : frame->skipped;
+    out.level_held = frame->level_held;
+    out.time_jump = frame->time_jump;
+    for (const auto& warning : out.result.warnings) {
+      if (PyErr_WarnEx(PyExc_UserWarning, ("hope: " + warning).c_str(), 1) < 0) {
+        throw py::error_already_set();
+      }
+    }
+    std::vector<py::ssize_t> shape;
+    if (points.ndim() == 3)
+      shape = {points.shape(0), points.shape(1)};
+    else
+      shape = {points.shape(0)};
+    std::vector<std::int32_t> labels = out.result.point_labels;
+    if (labels.empty()) labels.assign(static_cast<std::size_t>(view.count), -1);  // skipped
+    out.labels = ownedArray(std::move(labels), shape);
+    out.result.point_labels.clear();
+    if (!out.result.point_objects.empty()) {
+      out.object_labels = ownedArray(std::move(out.result.point_objects), shape);
+    }
+    out.result.point_objects.clear();
+    if (placements) out.frame = std::move(frame);
+    return out;
+  }
+
+  py::list place(const ExtractionResult& result, double width, double depth, double clearance,
+                 const py::object& plane_id, std::size_t max_results) {
+    if (!result.frame) {
+      throw py::value_error("place() needs a result of process(..., placements=True)");
+    }
+    hope::PlacementQuery query;
+    query.footprint = {width, depth, clearance};
+    query.max_results = max_results;
+    query.plane_index = planeIndexOf(result.frame->result.planes, plane_id, "that frame");
+    std::vector<hope::Placement> placements;
+    {
+      py::gil_scoped_release released;
+      std::lock_guard<std::mutex> lock(mutex_);
+      placements = pipeline_.findPlacements(*result.frame, query);
+    }
+    return placementDicts(placements);
+  }
+
+  std::vector<hope::HorizontalPlane> mapSurfaces() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return pipeline_.mapSurfaces();
+  }
+  const hope::PipelineOptions& options() const { return pipeline_.options(); }
+
+ private:
+  hope::FramePipeline pipeline_;
+  std::mutex mutex_;
+};
+
+// hope.read_cloud: a .pcd (ASCII, binary, binary_compressed) or .ply file as hope_extract reads
+// it: H x W x 3 float32 for an organized cloud, N x 3 otherwise, NaN where nothing was seen.
+py::array readCloud(const std::string& path) {
+  hope::tools::InputCloud cloud;
+  {
+    py::gil_scoped_release released;
+    cloud = hope::tools::loadCloud(path);
+  }
+  std::vector<float> flat;
+  flat.reserve(cloud.points.size() * 3);
+  for (const Eigen::Vector3f& p : cloud.points) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  const auto n = static_cast<py::ssize_t>(cloud.points.size());
+  if (cloud.height > 1) {
+    return ownedArray(std::move(flat), {static_cast<py::ssize_t>(cloud.height),
+                                        static_cast<py::ssize_t>(cloud.width), 3});
+  }
+  return ownedArray(std::move(flat), {n, 3});
+}
 
 py::array rows(const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> flat;
@@ -531,6 +664,19 @@ PYBIND11_MODULE(_hope, m) {
                              "the unit up vector in the input cloud's frame")
       .def_property_readonly("levelling", &levellingOf,
                              "what up from the scene found (level=True), else None")
+      .def_readonly("events", &ExtractionResult::events,
+                    "Pipeline.process: what happened to ids (new, lost, merged...)")
+      .def_property_readonly(
+          "skipped",
+          [](const ExtractionResult& r) -> py::object {
+            if (r.skipped.empty()) return py::none();
+            return py::str(r.skipped);
+          },
+          "Pipeline.process: why the frame was skipped (nothing level in view), else None")
+      .def_readonly("level_held", &ExtractionResult::level_held,
+                    "Pipeline.process: nothing level in view, the last up held")
+      .def_readonly("time_jump", &ExtractionResult::time_jump,
+                    "Pipeline.process: the stamp went back; tracks started afresh")
       .def(
           "to_dict",
           [](const ExtractionResult& r) {
@@ -691,6 +837,78 @@ PYBIND11_MODULE(_hope, m) {
           "forgets every entry; ids go on (never given twice)")
       .def("__len__", &hope::SurfaceMap::size);
 
+  const hope::PipelineOptions pipeline_defaults;
+  py::class_<PyPipeline>(m, "Pipeline",
+                         "One frame's whole policy, as the nodelet and hope_extract --sequence "
+                         "apply it: orientation (given, an accelerometer averaged over "
+                         "gravity_window seconds, or up from the scene), planes, objects and "
+                         "persistent ids. See include/hope/frame_pipeline.h")
+      .def(py::init([](double r_xy, double r_z, double min_height, double max_height,
+                       double min_area, bool merge_fragments, double max_merge_gap,
+                       bool bridge_scan_gaps, int threads, const std::string& tracking,
+                       const std::string& levelling, double level_bound, double level_smoothing,
+                       double level_hold, double gravity_window, bool objects,
+                       double object_max_height) {
+             hope::PipelineOptions o;
+             o.extraction.r_xy = r_xy;
+             o.extraction.r_z = r_z;
+             o.extraction.min_height = min_height;
+             o.extraction.max_height = max_height;
+             o.extraction.min_area = min_area;
+             o.extraction.merge_fragments = merge_fragments;
+             o.extraction.max_merge_gap = max_merge_gap;
+             o.extraction.bridge_scan_gaps = bridge_scan_gaps;
+             o.extraction.threads = threads;
+             o.identity = hope::identityFromString(tracking);
+             o.levelling = hope::sceneLevellingFromString(levelling);
+             o.level_bound_deg = level_bound;
+             o.level_smoothing = level_smoothing;
+             o.level_hold_s = level_hold;
+             o.gravity_window_s = gravity_window;
+             o.objects = objects;
+             o.object_params.max_height = object_max_height;
+             return std::make_unique<PyPipeline>(o);  // validates: ValueError naming the option
+           }),
+           py::arg("r_xy") = defaults.r_xy, py::arg("r_z") = defaults.r_z,
+           py::arg("min_height") = defaults.min_height, py::arg("max_height") = defaults.max_height,
+           py::arg("min_area") = defaults.min_area,
+           py::arg("merge_fragments") = defaults.merge_fragments,
+           py::arg("max_merge_gap") = defaults.max_merge_gap,
+           py::arg("bridge_scan_gaps") = defaults.bridge_scan_gaps,
+           py::arg("threads") = defaults.threads,
+           py::arg("tracking") = std::string(hope::toString(pipeline_defaults.identity)),
+           py::arg("levelling") = std::string(hope::toString(pipeline_defaults.levelling)),
+           py::arg("level_bound") = pipeline_defaults.level_bound_deg,
+           py::arg("level_smoothing") = pipeline_defaults.level_smoothing,
+           py::arg("level_hold") = pipeline_defaults.level_hold_s,
+           py::arg("gravity_window") = pipeline_defaults.gravity_window_s,
+           py::arg("objects") = pipeline_defaults.objects,
+           py::arg("object_max_height") = pipeline_defaults.object_params.max_height)
+      .def("process", &PyPipeline::process, py::arg("points"), py::arg("stamp"),
+           py::arg("gravity") = py::none(), py::arg("quaternion") = py::none(),
+           py::arg("pose") = py::none(), py::arg("transform") = py::none(),
+           py::arg("viewpoint") = py::none(), py::arg("placements") = false,
+           "One frame (stamp in seconds). Orientation: at most one of gravity (an accelerometer "
+           "sample in m/s², sensor frame, averaged over gravity_window seconds), quaternion, "
+           "pose or transform (4 x 4); with levelling='estimate' none. Returns an "
+           "ExtractionResult with persistent ids, objects, events; skipped is set when the frame "
+           "was skipped. placements=True keeps the frame's points for place().")
+      .def("place", &PyPipeline::place, py::arg("result"), py::arg("width"), py::arg("depth"),
+           py::arg("clearance") = hope::Footprint().clearance, py::arg("plane_id") = py::none(),
+           py::arg("max_results") = 5,
+           "Where a width x depth footprint fits on the planes of `result` (a process(..., "
+           "placements=True) result): dicts plane_id, x, y, z, yaw, margin, best first.")
+      .def("map_surfaces", &PyPipeline::mapSurfaces,
+           "tracking='map': the map's entries as Planes, oldest first")
+      .def_property_readonly(
+          "tracking", [](const PyPipeline& p) { return hope::toString(p.options().identity); })
+      .def_property_readonly(
+          "levelling", [](const PyPipeline& p) { return hope::toString(p.options().levelling); });
+
+  m.def("read_cloud", &readCloud, py::arg("path"),
+        "a .pcd (ascii, binary, binary_compressed) or .ply file as hope_extract reads it: "
+        "H x W x 3 float32 for an organized cloud, N x 3 otherwise (metres, NaN where nothing "
+        "was seen); ValueError/RuntimeError naming what is wrong with the file");
   m.def("depth_to_cloud", &depthToCloud, py::arg("depth"), py::arg("intrinsics"),
         py::arg("scale") = 5000.0,
         "depth (H x W uint16 raw, `scale` units per metre, TUM 5000, OpenNI 1000; or float32 "

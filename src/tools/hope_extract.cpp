@@ -22,8 +22,7 @@
 #include <vector>
 
 #include "hope/extractor.h"
-#include "hope/plane_tracker.h"
-#include "hope/surface_map.h"
+#include "hope/frame_pipeline.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
 #include "hope/tools/map_extents.h"
@@ -87,6 +86,18 @@ hope::tools::CommandLine commandLine() {
       .value("--accelerometer", "FILE",
              "TUM accelerometer.txt \"timestamp ax ay az\" (m/s^2, optical frame, pointing up at "
              "rest): gravity only, heights relative to the camera")
+      .value("--orientation-source", "NAME",
+             "groundtruth (the default when the folder has groundtruth.txt), accelerometer "
+             "(averaged over 0.1 s of frames), fixed (--pose/--quaternion/--rpy/--gravity) or "
+             "scene (up from each frame's level surfaces, smoothed over frames, the last up held "
+             "for 1 s with nothing level in view): the nodelet's orientation_source. "
+             "--level with any other source refines it, as the nodelet's refine_orientation")
+      .value("--level-smoothing", "SHARE",
+             "the share of each frame's up in the running one, in (0, 1] (default 0.3; 1: none; "
+             "scene: for frames 1/30 s apart, more for frames further apart)")
+      .value("--level-hold", "S",
+             "scene: seconds a frame with nothing level in view keeps the last up (default 1)")
+      .value("--gravity-window", "S", "accelerometer: seconds of samples averaged (default 0.1)")
       .value("--max-time-difference", "S",
              "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
              "that close are skipped and counted")
@@ -133,7 +144,8 @@ hope::tools::CommandLine commandLine() {
              "make hope allocate gigabytes");
   cl.section("objects and placements",
              "what stands on each plane seen from above, and where a new object fits; made "
-             "whenever --json, --labels, --overlay or --place is given")
+             "whenever --json, --labels, --overlay or --place is given (with --sequence: "
+             "--jsonl or --overlay-dir)")
       .value("--place", "\"W D [CLEARANCE]\"",
              "a footprint W x D m (clearance default 0.02 m): up to 5 poses where it rests on "
              "observed surface clear of every object, best first, printed and in the JSON's "
@@ -363,11 +375,19 @@ class Progress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// How a sequence's frames are oriented and levelled, as the nodelet's orientation_source and
+// refine_orientation say it.
+struct SequencePlan {
+  hope::tools::SequenceOptions listing;
+  std::string source;  // groundtruth, accelerometer, fixed or scene
+  hope::SceneLevelling levelling = hope::SceneLevelling::kOff;
+};
+
 // The sequence's options checked against each other and the folder before any frame is read:
 // an option that cannot apply is an error, never silently ignored.
-hope::tools::SequenceOptions sequenceOptions(const Options& o) {
-  for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay",
-                             "--place", "--object-max-height", "--no-objects"}) {
+SequencePlan sequencePlan(const Options& o) {
+  for (const char* single :
+       {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay", "--place"}) {
     if (o.values.count(single) || o.flag(single)) {
       throw std::invalid_argument(std::string(single) +
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
@@ -377,7 +397,8 @@ hope::tools::SequenceOptions sequenceOptions(const Options& o) {
     throw std::invalid_argument(
         "--repeat times repeated extractions of one input; it does not go with --sequence");
   }
-  hope::tools::SequenceOptions seq;
+  SequencePlan plan;
+  hope::tools::SequenceOptions& seq = plan.listing;
   seq.dir = o.values.at("--sequence");
   if (!std::filesystem::is_directory(seq.dir)) {
     throw std::invalid_argument(
@@ -389,39 +410,70 @@ hope::tools::SequenceOptions sequenceOptions(const Options& o) {
   const bool fixed = orientationGiven(o);
   const bool has_gt = o.values.count("--groundtruth") > 0;
   const bool has_acc = o.values.count("--accelerometer") > 0;
+  const bool folder_gt =
+      std::filesystem::exists(std::filesystem::path(seq.dir) / "groundtruth.txt");
   if (int(fixed) + int(has_gt) + int(has_acc) > 1) {
     throw std::invalid_argument(
         "give one orientation source: --groundtruth, --accelerometer, or a fixed one");
   }
-  // --level alone: every frame levelled from its own scene (a folder's groundtruth.txt is not
-  // read); with a source, that source's orientation refined.
-  if (fixed || (o.flag("--level") && !has_gt && !has_acc)) {
-    seq.source = hope::tools::OrientationSource::kNone;
-  } else if (has_acc) {
-    seq.source = hope::tools::OrientationSource::kAccelerometer;
-    seq.orientation_file = o.values.at("--accelerometer");
+  std::string& source = plan.source;
+  if (o.values.count("--orientation-source")) {
+    source = o.values.at("--orientation-source");
+    const bool consistent = source == "groundtruth"     ? !fixed && !has_acc
+                            : source == "accelerometer" ? !fixed && !has_gt
+                            : source == "fixed"         ? fixed
+                            : source == "scene"         ? !fixed && !has_gt && !has_acc
+                                                        : false;
+    if (source != "groundtruth" && source != "accelerometer" && source != "fixed" &&
+        source != "scene") {
+      throw std::invalid_argument("--orientation-source '" + source +
+                                  "' is not one of groundtruth, accelerometer, fixed, scene");
+    }
+    if (!consistent) {
+      throw std::invalid_argument("--orientation-source " + source +
+                                  (source == "fixed"
+                                       ? " needs one of --pose, --quaternion, --rpy, --gravity"
+                                       : " does not go with the other orientation option given"));
+    }
   } else {
-    seq.source = hope::tools::OrientationSource::kGroundTruth;
-    seq.orientation_file = has_gt ? o.values.at("--groundtruth") : std::string();
-    if (!has_gt && !std::filesystem::exists(std::filesystem::path(seq.dir) / "groundtruth.txt")) {
+    // A folder's poses are the default orientation, refined by --level like any other; --level
+    // alone on a folder without poses levels every frame from its scene.
+    source = fixed                 ? "fixed"
+             : has_acc             ? "accelerometer"
+             : has_gt || folder_gt ? "groundtruth"
+             : o.flag("--level")   ? "scene"
+                                   : "";
+    if (source.empty()) {
       throw std::invalid_argument("no " + seq.dir +
                                   "/groundtruth.txt: give --groundtruth FILE, --accelerometer "
                                   "FILE, one fixed --pose/--quaternion/--rpy/--gravity, or "
                                   "--level to level every frame from its scene");
     }
+  }
+  plan.levelling = source == "scene"   ? hope::SceneLevelling::kEstimate
+                   : o.flag("--level") ? hope::SceneLevelling::kRefine
+                                       : hope::SceneLevelling::kOff;
+  if (source == "accelerometer") {
+    seq.source = hope::tools::OrientationSource::kAccelerometer;
+    seq.orientation_file = has_acc ? o.values.at("--accelerometer") : std::string();
+  } else if (source == "groundtruth") {
+    seq.source = hope::tools::OrientationSource::kGroundTruth;
+    seq.orientation_file = has_gt ? o.values.at("--groundtruth") : std::string();
     if (o.values.count("--viewpoint")) {
       throw std::invalid_argument(
           "--viewpoint does not go with ground-truth poses: each frame's viewpoint is its "
           "pose's translation");
     }
+  } else {
+    seq.source = hope::tools::OrientationSource::kNone;
   }
   if (seq.source == hope::tools::OrientationSource::kNone &&
       o.values.count("--max-time-difference") && !o.values.count("--overlay-dir")) {
     std::cerr << "hope_extract: warning: --max-time-difference pairs frames with poses, "
-                 "accelerometer samples or colour images; with a fixed orientation or --level "
-                 "alone and no --overlay-dir it has nothing to pair\n";
+                 "accelerometer samples or colour images; with a fixed orientation or up from "
+                 "the scene and no --overlay-dir it has nothing to pair\n";
   }
-  return seq;
+  return plan;
 }
 
 // A frame's overlay file: named by its stamp, made unique when two frames share one.
@@ -439,12 +491,17 @@ std::string lineStart(double stamp, const std::string& file) {
          ", \"file\": " + hope::tools::jsonString(file);
 }
 
-void writeFrameLine(std::ostream& jsonl, double stamp, const std::string& file,
-                    const hope::Result& result, const hope::UpEstimate* levelled,
-                    const std::vector<hope::TrackEvent>& events) {
-  jsonl << lineStart(stamp, file) << ", "
+void writeFrameLine(std::ostream& jsonl, const std::string& file, const hope::Frame& frame,
+                    bool objects) {
+  const hope::Result& result = frame.result;
+  jsonl << lineStart(frame.stamp, file) << ", "
         << hope::tools::orientationJson(result.sensor_to_reference);
-  if (levelled) jsonl << ", \"levelling\": " << hope::tools::levellingJson(*levelled);
+  if (frame.levelling) {
+    jsonl << ", \"levelling\": " << hope::tools::levellingJson(*frame.levelling);
+  }
+  if (frame.level_held) {
+    jsonl << ", \"level_held\": " << hope::tools::jsonString(frame.skipped);
+  }
   if (!result.warnings.empty()) {
     jsonl << ", \"warnings\": [";
     for (std::size_t w = 0; w < result.warnings.size(); ++w) {
@@ -457,22 +514,40 @@ void writeFrameLine(std::ostream& jsonl, double stamp, const std::string& file,
     jsonl << (p ? ", " : "");
     hope::tools::writePlaneJson(jsonl, result.planes[p]);
   }
+  if (objects) {
+    jsonl << "], \"objects\": [";
+    for (std::size_t k = 0; k < result.objects.size(); ++k) {
+      jsonl << (k ? ", " : "");
+      hope::tools::writeObjectJson(jsonl, result.objects[k]);
+    }
+  }
   jsonl << "], \"events\": [";
-  for (std::size_t e = 0; e < events.size(); ++e) {
-    jsonl << (e ? ", " : "") << "{\"kind\": \"" << hope::toString(events[e].kind)
-          << "\", \"id\": " << events[e].id << ", \"other_id\": " << events[e].other_id << "}";
+  for (std::size_t e = 0; e < frame.events.size(); ++e) {
+    const hope::TrackEvent& event = frame.events[e];
+    jsonl << (e ? ", " : "") << "{\"kind\": \"" << hope::toString(event.kind)
+          << "\", \"id\": " << event.id << ", \"other_id\": " << event.other_id << "}";
   }
   jsonl << "]}\n";
 }
 
 int runSequence(const Options& o) {
-  hope::tools::SequenceOptions seq = sequenceOptions(o);
-  const hope::Params params = parameters(o);
-  hope::Extractor extractor(params);
-  hope::UpEstimator estimator(levellingParams(o, params));
-  const bool level = o.flag("--level");
-  const bool estimate_each =
-      level && seq.source == hope::tools::OrientationSource::kNone && !orientationGiven(o);
+  const SequencePlan plan = sequencePlan(o);
+  const hope::tools::SequenceOptions& seq = plan.listing;
+  hope::PipelineOptions pipeline_options;
+  pipeline_options.extraction = parameters(o);
+  pipeline_options.levelling = plan.levelling;
+  if (!o.flag("--level") && o.values.count("--level-bound")) {
+    throw std::invalid_argument("--level-bound goes with --level");
+  }
+  pipeline_options.level_bound_deg = number(o, "--level-bound", pipeline_options.level_bound_deg);
+  pipeline_options.level_smoothing =
+      number(o, "--level-smoothing", pipeline_options.level_smoothing);
+  pipeline_options.level_hold_s = number(o, "--level-hold", pipeline_options.level_hold_s);
+  pipeline_options.gravity_window_s =
+      number(o, "--gravity-window", pipeline_options.gravity_window_s);
+  pipeline_options.objects = !o.flag("--no-objects");
+  pipeline_options.object_params.max_height =
+      number(o, "--object-max-height", pipeline_options.object_params.max_height);
   // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
   // id for the whole run. Gravity alone leaves the camera's position unknown: frame-to-frame
   // tracking.
@@ -480,13 +555,15 @@ int runSequence(const Options& o) {
   const std::string tracking = o.values.count("--tracking") ? o.values.at("--tracking")
                                : fixed_frame                ? "map"
                                                             : "improved";
-  const bool use_map = tracking == "map";
+  pipeline_options.identity = hope::identityFromString(tracking);
+  const bool use_map = pipeline_options.identity == hope::Identity::kMap;
   if (use_map && !fixed_frame) {
     throw std::invalid_argument(
         "--tracking map needs a fixed frame: world poses (the folder's groundtruth.txt or "
-        "--groundtruth); with --accelerometer or a fixed orientation the camera's position is "
-        "unknown");
+        "--groundtruth); with --accelerometer, a fixed orientation or up from the scene the "
+        "camera's position is unknown");
   }
+  hope::FramePipeline pipeline(pipeline_options);  // validates every option
   std::optional<hope::tools::OutputFile> map_file;
   if (o.values.count("--map")) {
     if (!use_map) {
@@ -505,10 +582,6 @@ int runSequence(const Options& o) {
     extents_file.emplace(o.values.at("--map-extents"));
     extents.emplace();
   }
-  hope::TrackerOptions tracker_options;
-  if (!use_map) tracker_options.mode = hope::trackingModeFromString(tracking);
-  hope::PlaneTracker tracker(tracker_options);
-  hope::SurfaceMap surface_map(hope::surfaceMapOptionsFor(params));
   const hope::Orientation fixed_orientation = orientation(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);
@@ -542,7 +615,12 @@ int runSequence(const Options& o) {
   std::size_t total_planes = 0, processed = 0, uncorrected = 0;
   std::string first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
-  hope::UpSmoother correction;  // refinement: the scene's up in the given frames
+  // What the outputs show: objects in the JSON lines and overlays, the points for overlays and
+  // the map's extents.
+  hope::FrameOutputs wanted;
+  wanted.keep_points = !overlay_dir.empty() || extents;
+  wanted.point_labels = wanted.keep_points;
+  wanted.objects = jsonl.is_open() || !overlay_dir.empty();
   // Frames with no orientation near enough in time: recorded among the others, by stamp.
   std::size_t next_unoriented = 0;
   auto recordUnorientedUntil = [&](double stamp) {
@@ -596,61 +674,43 @@ int runSequence(const Options& o) {
     if (depth_frames && !frame_orientation.viewpoint()) {
       frame_orientation = frame_orientation.withViewpoint(Eigen::Vector3d::Zero());
     }
-    if (seq.source == hope::tools::OrientationSource::kAccelerometer) {
+    if (seq.source != hope::tools::OrientationSource::kGroundTruth) {
       frame_orientation = withViewpointOption(o, frame_orientation);
     }
-    std::optional<hope::UpEstimate> levelled;
-    if (estimate_each) {
-      try {
-        levelled = estimator.estimate(input.view());
-      } catch (const hope::LevellingError& error) {
-        // A frame with nothing level in view (the camera facing a wall) is skipped, not
-        // guessed: the tracker does not see it, the JSON lines record it.
-        skip("nothing level in view to find up from", error.what());
-        continue;
-      }
-      frame_orientation = withViewpointOption(o, levelled->orientation);
-    } else if (level) {
-      // Each frame's correction blended into a running one (UpSmoother, as the nodelet does): the
-      // scene's up in the given reference frame. Corrected frame by frame, the kitchen sequence's
-      // world turned with each frame's depth noise: 128 ids and 31 switches where its poses alone
-      // give 96 and 14; blended, 94 and 13 (IDF1 72.9 % against 70.9 %).
-      levelled = estimator.refine(input.view(), frame_orientation);
-      const Eigen::Matrix3d& rotation = frame_orientation.sensorToReference().linear();
-      if (levelled->applied) {
-        correction.add(rotation * levelled->up_in_sensor);
-      } else if (uncorrected++ == 0) {
-        first_uncorrected = file + ": " + levelled->note;
-      }
-      if (!correction.empty()) {
-        frame_orientation =
-            hope::levelledTo(frame_orientation, rotation.transpose() * correction.value());
-      }
+    hope::Frame result;
+    try {
+      result = seq.source == hope::tools::OrientationSource::kAccelerometer
+                   ? pipeline.processWithGravity(input.view(), frame.stamp, frame.specific_force,
+                                                 wanted, *frame_orientation.viewpoint())
+                   : pipeline.process(input.view(), frame.stamp, frame_orientation, wanted);
+    } catch (const std::invalid_argument& error) {
+      skip("could not be used", error.what());
+      continue;
     }
-    if (levelled) level_ms += levelled->time_ms;
+    if (result.levelling) level_ms += result.levelling->time_ms;
+    if (!result.processed) {
+      // Nothing level in view, and no earlier up to hold: skipped, not guessed; the tracker
+      // does not see it, the JSON lines record it.
+      skip("nothing level in view to find up from", result.skipped);
+      continue;
+    }
+    if (result.levelling && result.levelling->refinement && !result.levelling->applied &&
+        uncorrected++ == 0) {
+      first_uncorrected = file + ": " + result.levelling->note;
+    }
     ++processed;
-    hope::ExtractOutputs wanted;
-    wanted.point_labels = !overlay_dir.empty() || extents;
-    hope::Result result = extractor.extract(input.view(), frame_orientation, wanted);
-    const auto start = std::chrono::steady_clock::now();
-    const std::vector<hope::TrackEvent> events =
-        use_map ? surface_map.update(result.planes, frame.stamp, frame_orientation.viewpoint())
-                : tracker.update(result.planes, frame.stamp);
-    track_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (extents) extents->addFrame(result, extractor.alignedPoints(), events);
-    extract_ms += result.timings.total_ms;
-    total_planes += result.planes.size();
-    for (const auto& p : result.planes) ids.insert(p.id);
-    for (const auto& warning : result.warnings) summary.warn(file, warning);
+    track_ms += result.identity_ms;
+    if (extents) extents->addFrame(result.result, result.points, result.events);
+    extract_ms += result.result.timings.total_ms;
+    total_planes += result.result.planes.size();
+    for (const auto& p : result.result.planes) ids.insert(p.id);
+    for (const auto& warning : result.result.warnings) summary.warn(file, warning);
 
-    if (jsonl.is_open()) {
-      writeFrameLine(jsonl, frame.stamp, file, result, levelled ? &*levelled : nullptr, events);
-    }
+    if (jsonl.is_open()) writeFrameLine(jsonl, file, result, wanted.objects);
     if (!overlay_dir.empty()) {
       hope::tools::OutputFile overlay(overlayName(overlay_dir, frame.stamp, overlay_names));
       hope::tools::writeImage(overlay,
-                              hope::tools::renderOverlay(input, extractor.alignedPoints(), result));
+                              hope::tools::renderOverlay(input, result.points, result.result));
       overlay.commit();
     }
     progress.update(f + 1);
@@ -664,7 +724,7 @@ int runSequence(const Options& o) {
   if (map_file) {
     hope::tools::writeText(*map_file, [&](std::ostream& out) {
       out << "{\"surfaces\": [";
-      const std::vector<hope::HorizontalPlane> surfaces = surface_map.surfaces();
+      const std::vector<hope::HorizontalPlane> surfaces = pipeline.mapSurfaces();
       for (std::size_t k = 0; k < surfaces.size(); ++k) {
         out << (k ? ",\n  " : "\n  ");
         hope::tools::writePlaneJson(out, surfaces[k]);
@@ -675,7 +735,7 @@ int runSequence(const Options& o) {
   }
   if (extents_file) {
     hope::tools::writeText(*extents_file, [&](std::ostream& out) {
-      out << hope::tools::formatMapExtents(extents->compare(surface_map.surfaces()), 12);
+      out << hope::tools::formatMapExtents(extents->compare(pipeline.mapSurfaces()), 12);
     });
     extents_file->commit();
   }
@@ -695,8 +755,9 @@ int runSequence(const Options& o) {
       "%.2f ms/frame, tracking %.3f ms/frame",
       processed, seq.dir.c_str(), listing.layout.c_str(), tracking.c_str(), total_planes / n,
       ids.size(), extract_ms / n, track_ms / n);
-  if (level) {
-    std::printf(", %s from the scene %.2f ms/frame", estimate_each ? "levelling" : "refinement",
+  if (plan.levelling != hope::SceneLevelling::kOff) {
+    std::printf(", %s from the scene %.2f ms/frame",
+                plan.levelling == hope::SceneLevelling::kEstimate ? "levelling" : "refinement",
                 level_ms / n);
   }
   const std::size_t skipped = summary.skippedFrames();
@@ -708,6 +769,7 @@ int run(const Options& o) {
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only :
        {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
+        "--orientation-source", "--level-smoothing", "--level-hold", "--gravity-window",
         "--overlay-dir", "--strict", "--map", "--map-extents"}) {
     if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");

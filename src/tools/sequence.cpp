@@ -88,6 +88,26 @@ std::string restOfLine(std::istringstream& fields) {
   return first == std::string::npos ? std::string() : rest.substr(first, last - first + 1);
 }
 
+// The pose at `stamp`, whose nearest pose is poses[k]: interpolated between the two poses around
+// it (the rotation along the shorter arc), as tf2 does, so that a frame 4 ms from a 30 Hz pose
+// gets the pose of its own time; the nearest one at either end of the poses.
+Eigen::Isometry3d poseAt(const std::vector<StampedPose>& poses, int k, double stamp) {
+  const int other = poses[k].stamp <= stamp ? k + 1 : k - 1;
+  if (poses[k].stamp == stamp || other < 0 || other >= static_cast<int>(poses.size())) {
+    return poses[k].pose;
+  }
+  const StampedPose& a = poses[std::min(k, other)];
+  const StampedPose& b = poses[std::max(k, other)];
+  const double span = b.stamp - a.stamp;
+  if (!(span > 0)) return poses[k].pose;
+  const double t = (stamp - a.stamp) / span;
+  const Eigen::Quaterniond qa(a.pose.linear()), qb(b.pose.linear());
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = qa.slerp(t, qb).normalized().toRotationMatrix();
+  pose.translation() = (1 - t) * a.pose.translation() + t * b.pose.translation();
+  return pose;
+}
+
 template <class Stamped>
 void sortByStamp(std::vector<Stamped>& entries) {
   std::stable_sort(entries.begin(), entries.end(),
@@ -263,7 +283,7 @@ SequenceListing listSequence(const SequenceOptions& options) {
         listing.without_orientation.push_back(input);
         continue;
       }
-      frame.orientation = Orientation::fromTransform(poses[k].pose);
+      frame.orientation = Orientation::fromTransform(poseAt(poses, k, input.stamp));
     } else if (options.source == OrientationSource::kAccelerometer) {
       const int k = nearestInTime(gravity, input.stamp, options.max_time_difference);
       if (k < 0) {
@@ -273,6 +293,7 @@ SequenceListing listSequence(const SequenceOptions& options) {
       }
       const Eigen::Vector3d& g = gravity[k].value;
       frame.orientation = Orientation::fromGravity(g.x(), g.y(), g.z());
+      frame.specific_force = g;
     }
     const int c = nearestInTime(colour, input.stamp, options.max_time_difference);
     if (c >= 0) frame.rgb = colour[c].path;

@@ -36,6 +36,9 @@ std::string levellingJson(const UpEstimate& estimate);
 // One plane as a JSON object on one line: every field of hope::HorizontalPlane.
 void writePlaneJson(std::ostream& out, const HorizontalPlane& plane);
 
+// One object as a JSON object on one line, as writeJson's "objects" hold them.
+void writeObjectJson(std::ostream& out, const StandingObject& object);
+
 // A string as a JSON string literal: quotes added, control characters escaped, bytes that are
 // not valid UTF-8 written as \u00NN (read as Latin-1), so the JSON is valid whatever the bytes.
 std::string jsonString(const std::string& text);

@@ -39,7 +39,9 @@ struct StampedPose {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 // TUM groundtruth.txt: "timestamp tx ty tz qx qy qz qw" (pose of the optical frame in the
-// world, z up). Quaternions are normalized; a zero or non-finite one is an error.
+// world, z up). A frame takes the pose of its own time, interpolated between the two around it
+// (as tf does), when the nearest is within the largest time difference. Quaternions are normalized;
+// a zero or non-finite one is an error.
 std::vector<StampedPose> readGroundTruth(const std::string& path,
                                          std::vector<std::string>* bad_lines = nullptr);
 
@@ -69,6 +71,8 @@ struct SequenceFrame {
   std::string cloud;  // point cloud file
   std::string rgb;    // colour image nearest in time (TUM layout), may be empty
   Orientation orientation = Orientation::identity();
+  // The accelerometer's sample (m/s², pointing up at rest) with OrientationSource::kAccelerometer.
+  Eigen::Vector3d specific_force = Eigen::Vector3d::Zero();
 };
 
 enum class OrientationSource { kNone, kGroundTruth, kAccelerometer };

@@ -1,0 +1,201 @@
+// One frame's whole policy, the same for every front-end (the nodelet, hope_extract and
+// Python): the orientation (as its source gives it, from an accelerometer averaged over a
+// window, from the scene with smoothing and a hold, or given and refined by the scene), the
+// extraction (extractor.h), what stands on the planes (standing_objects.h), persistent ids (the
+// improved or paper tracker, or a map of the surfaces in a fixed frame) and placements on a
+// frame that was processed. A front-end converts its input, calls process() and publishes
+// the Frame; it decides nothing else.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hope/extractor.h"
+#include "hope/gravity_alignment.h"
+#include "hope/params.h"
+#include "hope/placement.h"
+#include "hope/plane_tracker.h"
+#include "hope/points_view.h"
+#include "hope/standing_objects.h"
+#include "hope/surface_map.h"
+#include "hope/up_estimation.h"
+
+namespace hope {
+
+// Up from the scene (up_estimation.h).
+enum class SceneLevelling {
+  kOff,
+  // Up estimated from each frame's own level surfaces; the given orientation only says where
+  // the sensor is (its viewpoint). Heights are relative to the sensor.
+  kEstimate,
+  // The given orientation corrected by the scene, by at most LevellingParams::max_correction_deg.
+  kRefine,
+};
+
+// "off", "estimate" (the nodelet's orientation_source scene) or "refine"; throws
+// std::invalid_argument for anything else.
+SceneLevelling sceneLevellingFromString(const std::string& name);
+const char* toString(SceneLevelling levelling);
+
+// How ids persist across frames.
+enum class Identity {
+  kImproved,  // the improved tracker (plane_tracker.h), frame to frame: the default
+  kPaper,     // the paper's nearest-neighbour plane matching (§2.5)
+  kMap,       // a map of the surfaces (surface_map.h): needs poses in a fixed frame
+};
+
+// "improved", "paper" or "map"; throws std::invalid_argument for anything else.
+Identity identityFromString(const std::string& name);
+const char* toString(Identity identity);
+
+struct PipelineOptions {
+  Params extraction;
+  // What stands on the planes, computed in frames that ask for it (FrameOutputs::objects).
+  bool objects = true;
+  ObjectParams object_params;
+  Identity identity = Identity::kImproved;
+  SceneLevelling levelling = SceneLevelling::kOff;
+  // The largest correction a refinement makes, degrees.
+  double level_bound_deg = 5.0;
+  // The share of each frame's up in the running one (UpSmoother): one view's depth noise does
+  // not rock the reference frame; a turn of more than 10° starts it afresh. In (0, 1]. A
+  // refinement's correction (in the reference frame, where it stays while the sensor moves)
+  // takes this share in every frame; an estimate's up (in the sensor's frame, which turns with
+  // it) takes it for frames 1/30 s apart and more for frames further apart,
+  // 1 − (1 − share)^(30 Δt): a recording at 3 Hz is hardly smoothed.
+  double level_smoothing = 0.3;
+  // Estimate: a frame with nothing level in view (the camera facing a wall) keeps the last up
+  // for this many seconds, since a sensor rarely turns much in a moment; after that frames are
+  // skipped. 0 skips at once.
+  double level_hold_s = 1.0;
+  // An accelerometer's samples are averaged over this many seconds of stamps (the frame's own
+  // included), so that the sensor's shake does not tilt the reference frame from frame to
+  // frame: 3 frames of a 30 Hz camera, one of a slower one. A longer window lags a turning
+  // sensor: on studyroom_dev (30 Hz, turning) 0.33 s cost 14 points of area-weighted IDF1
+  // (docs/quality.md).
+  double gravity_window_s = 0.1;
+};
+
+// Throws std::invalid_argument naming the option and its range (the extraction's, the
+// objects' and the levelling's parameters included).
+void validate(const PipelineOptions& options);
+
+// What a frame computes besides its planes and ids; each costs time a caller that does not
+// show it can save.
+struct FrameOutputs {
+  bool point_labels = true;  // Result::point_labels
+  bool objects = true;       // Result::objects (when PipelineOptions::objects)
+  // Keep the frame's aligned points (Frame::points, 12 bytes a point): findPlacements() answers
+  // on the frame later from them, an overlay draws them. Point labels are made too.
+  bool keep_points = false;
+};
+
+struct Frame {
+  double stamp = 0;
+  // False when the frame was skipped: `skipped` says why (nothing level in view and no up to
+  // hold). A cloud that cannot be a scene throws std::invalid_argument instead.
+  bool processed = false;
+  std::string skipped;
+  // The planes with their persistent ids (and age, last_seen), objects with their plane's id.
+  Result result;
+  std::vector<TrackEvent> events;
+  // The orientation the frame was extracted with.
+  Orientation orientation = Orientation::identity();
+  // The scene's estimate or refinement, when levelling is on (its `applied` false: the given
+  // orientation was kept); `level_held`: nothing level in view, the last up held.
+  std::optional<UpEstimate> levelling;
+  bool level_held = false;
+  // The stamp went back (a looping bag, a reset clock): tracks, the gravity average and the
+  // running up started afresh before this frame. The surface map stays: it holds places.
+  bool time_jump = false;
+  // FrameOutputs::keep_points: the points in the reference frame less Result::local_origin, one
+  // per input point, in input order (findPlacements() reads them).
+  std::vector<Eigen::Vector3f> points;
+  // Milliseconds spent giving the planes their ids (the tracker's or the map's update).
+  double identity_ms = 0;
+};
+
+// Counts since the pipeline was made, for diagnostics.
+struct PipelineCounters {
+  std::size_t frames = 0, skipped = 0, time_jumps = 0;
+  // Levelling: frames whose up came from their scene, estimates refused with the last up held,
+  // and refinements not applied (the given orientation kept).
+  std::size_t levelled = 0, level_held = 0, uncorrected = 0;
+};
+
+class FramePipeline {
+ public:
+  // Throws std::invalid_argument for an option out of range (validate()).
+  explicit FramePipeline(const PipelineOptions& options = PipelineOptions());
+  ~FramePipeline();
+  FramePipeline(const FramePipeline&) = delete;
+  FramePipeline& operator=(const FramePipeline&) = delete;
+
+  // One frame whose orientation its source gives: a pose, a tf transform, an IMU's quaternion,
+  // a fixed rotation (with estimate levelling, only its viewpoint is used). `stamp` in
+  // seconds. Throws std::invalid_argument for a cloud that cannot be a scene in metres.
+  Frame process(const PointsView& cloud, double stamp, const Orientation& given,
+                const FrameOutputs& outputs = FrameOutputs());
+  // One frame whose orientation comes from an accelerometer: its specific force in the
+  // cloud's frame (m/s², pointing up at rest), averaged with the samples of the last
+  // gravity_window_s; the sensor at `viewpoint` (default: the origin). Throws
+  // std::invalid_argument for a sample that cannot be gravity (not 1–30 m/s²).
+  Frame processWithGravity(const PointsView& cloud, double stamp,
+                           const Eigen::Vector3d& specific_force,
+                           const FrameOutputs& outputs = FrameOutputs(),
+                           const Eigen::Vector3d& viewpoint = Eigen::Vector3d::Zero());
+
+  // Where `query`'s footprint fits on `frame`'s planes: a frame processed with
+  // FrameOutputs::keep_points (placement.h). Throws std::invalid_argument otherwise, or for a bad
+  // footprint or plane index.
+  std::vector<Placement> findPlacements(const Frame& frame, const PlacementQuery& query) const;
+
+  // New options between frames. The tracker restarts when the identity changes; the map when
+  // its cells (r_xy) or extension gate (r_z) change, ids going on. Returns what was restarted,
+  // for the front-end to say; throws std::invalid_argument (nothing changes) for a bad option.
+  std::vector<std::string> setOptions(const PipelineOptions& options);
+  const PipelineOptions& options() const { return options_; }
+
+  // The map's entries (Identity::kMap), oldest first; forgetting them, ids going on.
+  std::vector<HorizontalPlane> mapSurfaces() const;
+  std::size_t mapSize() const;
+  void resetMap();
+  // Tracks, the gravity average and the running up start afresh (the map stays).
+  void restart();
+
+  const PipelineCounters& counters() const { return counters_; }
+  // The running up (estimate: in the sensor's frame; refine: in the reference frame), when
+  // there is one.
+  std::optional<Eigen::Vector3d> smoothedUp() const;
+
+ private:
+  // The orientation levelled from the scene as options_.levelling says; false when the frame
+  // is to be skipped (`frame.skipped` then says why).
+  bool level(const PointsView& cloud, Orientation& orientation, Frame& frame);
+  Frame extractAndIdentify(const PointsView& cloud, Frame frame, const Orientation& orientation,
+                           const FrameOutputs& outputs);
+  void noteStamp(double stamp, Frame& frame);
+
+  PipelineOptions options_;
+  Extractor extractor_;
+  std::unique_ptr<UpEstimator> up_estimator_;
+  UpSmoother up_smoother_;
+  std::optional<double> last_level_stamp_;  // the last frame whose own scene gave up
+  PlaneTracker tracker_;
+  SurfaceMap map_;
+  struct GravitySample {
+    double stamp;
+    Eigen::Vector3d force;
+  };
+  std::deque<GravitySample> gravity_;
+  std::optional<double> last_stamp_;
+  PipelineCounters counters_;
+};
+
+}  // namespace hope

@@ -1,0 +1,290 @@
+#include "hope/frame_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace hope {
+
+namespace {
+
+TrackerOptions trackerOptionsFor(Identity identity) {
+  TrackerOptions options;
+  options.mode = identity == Identity::kPaper ? TrackingMode::kPaper : TrackingMode::kImproved;
+  return options;
+}
+
+LevellingParams levellingFor(const PipelineOptions& options) {
+  LevellingParams params = LevellingParams::forExtraction(options.extraction);
+  params.max_correction_deg = options.level_bound_deg;
+  return params;
+}
+
+}  // namespace
+
+SceneLevelling sceneLevellingFromString(const std::string& name) {
+  if (name == "off") return SceneLevelling::kOff;
+  if (name == "estimate") return SceneLevelling::kEstimate;
+  if (name == "refine") return SceneLevelling::kRefine;
+  throw std::invalid_argument("levelling '" + name + "' is not one of off, estimate, refine");
+}
+
+const char* toString(SceneLevelling levelling) {
+  switch (levelling) {
+    case SceneLevelling::kEstimate:
+      return "estimate";
+    case SceneLevelling::kRefine:
+      return "refine";
+    case SceneLevelling::kOff:
+      break;
+  }
+  return "off";
+}
+
+Identity identityFromString(const std::string& name) {
+  if (name == "improved") return Identity::kImproved;
+  if (name == "paper") return Identity::kPaper;
+  if (name == "map") return Identity::kMap;
+  throw std::invalid_argument("tracking '" + name + "' is not one of improved, paper, map");
+}
+
+const char* toString(Identity identity) {
+  switch (identity) {
+    case Identity::kPaper:
+      return "paper";
+    case Identity::kMap:
+      return "map";
+    case Identity::kImproved:
+      break;
+  }
+  return "improved";
+}
+
+void validate(const PipelineOptions& options) {
+  validate(options.extraction);
+  validate(options.object_params);
+  validate(levellingFor(options));
+  if (!(options.level_smoothing > 0 && options.level_smoothing <= 1)) {
+    throw std::invalid_argument("level_smoothing must be in (0, 1] (got " +
+                                std::to_string(options.level_smoothing) + ")");
+  }
+  if (!(options.level_hold_s >= 0 && options.level_hold_s <= 3600)) {
+    throw std::invalid_argument("level_hold_s must be in [0, 3600] seconds (got " +
+                                std::to_string(options.level_hold_s) + ")");
+  }
+  if (!(options.gravity_window_s >= 0 && options.gravity_window_s <= 60)) {
+    throw std::invalid_argument("gravity_window_s must be in [0, 60] seconds (got " +
+                                std::to_string(options.gravity_window_s) + ")");
+  }
+}
+
+FramePipeline::FramePipeline(const PipelineOptions& options)
+    : options_((validate(options), options)),
+      extractor_(options.extraction),
+      up_smoother_(options.level_smoothing),
+      tracker_(trackerOptionsFor(options.identity)),
+      map_(surfaceMapOptionsFor(options.extraction)) {}
+
+FramePipeline::~FramePipeline() = default;
+
+std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& options) {
+  validate(options);
+  std::vector<std::string> notes;
+  extractor_ = Extractor(options.extraction);
+  if (options.identity != options_.identity) {
+    tracker_ = PlaneTracker(trackerOptionsFor(options.identity));
+    if (options.identity != Identity::kMap && map_.size() > 0) {
+      notes.push_back("tracking " + std::string(toString(options.identity)) +
+                      ": the surface map's " + std::to_string(map_.size()) +
+                      " surfaces are no longer used");
+    }
+  }
+  // The map's cells are r_xy and its extension gate r_z: other values start it afresh (ids go
+  // on, never given twice).
+  const SurfaceMapOptions map_options = surfaceMapOptionsFor(options.extraction);
+  if (map_options.cell != map_.options().cell ||
+      map_options.max_extension_height_change != map_.options().max_extension_height_change) {
+    if (map_.size() > 0) {
+      notes.push_back("surface map restarted: its cells follow r_xy (" +
+                      std::to_string(map_.options().cell) + " -> " +
+                      std::to_string(map_options.cell) + " m) and r_z; " +
+                      std::to_string(map_.size()) + " surfaces forgotten");
+    }
+    map_.reset(map_options);
+  }
+  if (levellingFor(options).cell != levellingFor(options_).cell ||
+      options.level_bound_deg != options_.level_bound_deg) {
+    up_estimator_.reset();  // made again with the new grid on the next frame
+  }
+  if (options.level_smoothing != options_.level_smoothing ||
+      options.levelling != options_.levelling) {
+    up_smoother_ = UpSmoother(options.level_smoothing);
+    last_level_stamp_.reset();
+  }
+  options_ = options;
+  return notes;
+}
+
+std::vector<HorizontalPlane> FramePipeline::mapSurfaces() const { return map_.surfaces(); }
+
+std::size_t FramePipeline::mapSize() const { return map_.size(); }
+
+void FramePipeline::resetMap() { map_.reset(); }
+
+void FramePipeline::restart() {
+  tracker_.reset();
+  gravity_.clear();
+  up_smoother_.reset();
+  last_level_stamp_.reset();
+}
+
+std::optional<Eigen::Vector3d> FramePipeline::smoothedUp() const {
+  if (up_smoother_.empty()) return std::nullopt;
+  return up_smoother_.value();
+}
+
+void FramePipeline::noteStamp(double stamp, Frame& frame) {
+  frame.stamp = stamp;
+  // A stamp older than the last: a bag started over, or a clock was reset; one source's stamps
+  // never go back otherwise. Tracks, the gravity average and the running up belong to another
+  // time; new ids continue from the last one.
+  if (last_stamp_ && stamp < *last_stamp_) {
+    restart();
+    frame.time_jump = true;
+    ++counters_.time_jumps;
+  }
+  last_stamp_ = stamp;
+}
+
+Frame FramePipeline::process(const PointsView& cloud, double stamp, const Orientation& given,
+                             const FrameOutputs& outputs) {
+  Frame frame;
+  noteStamp(stamp, frame);
+  Orientation orientation = given;
+  if (!level(cloud, orientation, frame)) return frame;
+  return extractAndIdentify(cloud, std::move(frame), orientation, outputs);
+}
+
+Frame FramePipeline::processWithGravity(const PointsView& cloud, double stamp,
+                                        const Eigen::Vector3d& specific_force,
+                                        const FrameOutputs& outputs,
+                                        const Eigen::Vector3d& viewpoint) {
+  // stableNorm: a corrupt sample of 1e300 m/s² is said as such, not as infinite.
+  const double magnitude = specific_force.stableNorm();
+  if (!specific_force.allFinite() || !(magnitude >= 1.0 && magnitude <= 30.0)) {
+    std::ostringstream why;
+    why << "an accelerometer sample of " << std::setprecision(2) << magnitude
+        << " m/s² is not gravity; is it in m/s²?";
+    throw std::invalid_argument(why.str());
+  }
+  if (options_.identity == Identity::kMap) {
+    throw std::invalid_argument(
+        "the surface map needs poses in a fixed frame; an accelerometer gives an orientation "
+        "only (use the improved tracker)");
+  }
+  Frame frame;
+  noteStamp(stamp, frame);
+  gravity_.push_back({stamp, specific_force});
+  while (gravity_.size() > 1 && gravity_.front().stamp < stamp - options_.gravity_window_s) {
+    gravity_.pop_front();
+  }
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const GravitySample& g : gravity_) mean += g.force;
+  Orientation orientation =
+      Orientation::fromGravity(mean.x(), mean.y(), mean.z()).withViewpoint(viewpoint);
+  if (!level(cloud, orientation, frame)) return frame;
+  return extractAndIdentify(cloud, std::move(frame), orientation, outputs);
+}
+
+bool FramePipeline::level(const PointsView& cloud, Orientation& orientation, Frame& frame) {
+  if (options_.levelling == SceneLevelling::kOff) return true;
+  if (!up_estimator_) up_estimator_ = std::make_unique<UpEstimator>(levellingFor(options_));
+  if (options_.levelling == SceneLevelling::kEstimate) {
+    try {
+      frame.levelling = up_estimator_->estimate(cloud);
+      // The share options_.level_smoothing is for frames 1/30 s apart; a frame later than that
+      // weighs more, since the sensor may have turned since (header).
+      const double since = last_level_stamp_ ? frame.stamp - *last_level_stamp_ : 0.0;
+      const double share =
+          1.0 - std::pow(1.0 - options_.level_smoothing, std::max(1.0, 30.0 * since));
+      orientation = levelledTo(orientation, up_smoother_.add(frame.levelling->up_in_sensor, share));
+      last_level_stamp_ = frame.stamp;
+      ++counters_.levelled;
+      return true;
+    } catch (const LevellingError& error) {
+      // Nothing level in view: the last up holds for a while, then frames are skipped.
+      frame.skipped = error.what();
+      if (up_smoother_.empty() || !last_level_stamp_ ||
+          frame.stamp - *last_level_stamp_ > options_.level_hold_s) {
+        ++counters_.skipped;
+        return false;
+      }
+      frame.level_held = true;
+      ++counters_.level_held;
+      orientation = levelledTo(orientation, up_smoother_.value());
+      return true;
+    }
+  }
+  // Refinement: the scene's up in the given reference frame (near +z) is what is smoothed, so
+  // that a moving sensor's orientation keeps coming from its source.
+  frame.levelling = up_estimator_->refine(cloud, orientation);
+  const Eigen::Matrix3d rotation = orientation.sensorToReference().linear();
+  if (frame.levelling->applied) {
+    up_smoother_.add(rotation * frame.levelling->up_in_sensor);
+    ++counters_.levelled;
+  } else {
+    ++counters_.uncorrected;
+  }
+  if (!up_smoother_.empty()) {
+    orientation = levelledTo(orientation, rotation.transpose() * up_smoother_.value());
+  }
+  return true;
+}
+
+Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
+                                        const Orientation& orientation,
+                                        const FrameOutputs& outputs) {
+  frame.orientation = orientation;
+  ExtractOutputs wanted;
+  wanted.point_labels = outputs.point_labels || outputs.keep_points;
+  wanted.objects = options_.objects && outputs.objects;
+  wanted.object_params = options_.object_params;
+  frame.result = extractor_.extract(cloud, orientation, wanted);
+  const auto start = std::chrono::steady_clock::now();
+  if (options_.identity == Identity::kMap) {
+    frame.events = map_.update(frame.result.planes, frame.stamp, orientation.viewpoint());
+  } else {
+    frame.events = tracker_.update(frame.result.planes, frame.stamp);
+  }
+  frame.identity_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  // The objects were found under the frame's own plane indices; the planes (in the same order)
+  // now carry their persistent ids.
+  for (StandingObject& o : frame.result.objects) {
+    o.plane_id = frame.result.planes[o.plane_index].id;
+  }
+  if (outputs.keep_points) {
+    const AlignedPoints points = extractor_.alignedPoints();
+    frame.points.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) frame.points[i] = points[i];
+  }
+  frame.processed = true;
+  ++counters_.frames;
+  return frame;
+}
+
+std::vector<Placement> FramePipeline::findPlacements(const Frame& frame,
+                                                     const PlacementQuery& query) const {
+  if (!frame.processed || frame.points.size() != frame.result.point_labels.size() ||
+      frame.points.empty()) {
+    throw std::invalid_argument("placements need a frame processed with FrameOutputs::keep_points");
+  }
+  return hope::findPlacements(AlignedPoints(frame.points), frame.result.planes,
+                              frame.result.point_labels, frame.result.local_origin,
+                              options_.extraction, query);
+}
+
+}  // namespace hope

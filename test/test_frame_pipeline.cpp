@@ -1,0 +1,263 @@
+// The frame pipeline's policy, against scenes with a known answer: ids kept over a rendered
+// sequence, an accelerometer averaged over its window, up from the scene held while nothing
+// level is in view, a restart when time goes back, placements on a frame asked later.
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "hope/depth_image.h"
+#include "hope/frame_pipeline.h"
+#include "hope/synthetic/sequences.h"
+
+namespace hope {
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+
+struct RenderedCloud {
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  std::vector<int> truth;  // surface per point
+  synthetic::Camera camera;
+};
+
+RenderedCloud renderFrame(const synthetic::TrackingScene& scene, const synthetic::Camera& camera) {
+  const auto frame = scene.render(camera, Eigen::Vector2d(100, 100), synthetic::SensorNoise());
+  RenderedCloud r;
+  r.cloud = depthToCloud(frame.depth, camera.intrinsics, 1.0);
+  r.truth.assign(frame.labels.begin<std::int32_t>(), frame.labels.end<std::int32_t>());
+  r.camera = camera;
+  return r;
+}
+
+std::vector<RenderedCloud> renderPan(int frames, int width) {
+  const synthetic::TrackingScene scene;
+  const auto sequence = synthetic::makeTrackingSequence("pan", frames, width);
+  std::vector<RenderedCloud> out;
+  for (const auto& f : sequence.frames) out.push_back(renderFrame(scene, f.camera));
+  return out;
+}
+
+// The id of the plane holding most of `surface`'s points, or -1.
+int idOfSurface(const Frame& frame, const std::vector<int>& truth, int surface) {
+  std::map<int, std::size_t> points_of_plane;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth[i] == surface && frame.result.point_labels[i] >= 0) {
+      ++points_of_plane[frame.result.point_labels[i]];
+    }
+  }
+  int best = -1;
+  std::size_t most = 0;
+  for (const auto& [plane, n] : points_of_plane) {
+    if (n > most) most = n, best = frame.result.planes[plane].id;
+  }
+  return best;
+}
+
+// Up in the reference frame that `orientation` gives the camera: the angle between the
+// reference frame's z and the world's.
+double tiltErrorDeg(const Orientation& orientation, const synthetic::Camera& camera) {
+  const Eigen::Vector3d true_up_in_sensor =
+      camera.pose.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up = orientation.sensorToReference().linear() * true_up_in_sensor;
+  return std::acos(std::min(1.0, up.z())) / kDegree;
+}
+
+TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
+  const std::vector<RenderedCloud> frames = renderPan(8, 320);
+  for (Identity identity : {Identity::kMap, Identity::kImproved}) {
+    PipelineOptions options;
+    options.identity = identity;
+    FramePipeline pipeline(options);
+    std::set<int> floor_ids, table_ids;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      const Frame frame = pipeline.process(PointsView::of(frames[f].cloud), f / 30.0,
+                                           Orientation::fromTransform(frames[f].camera.pose));
+      ASSERT_TRUE(frame.processed) << frame.skipped;
+      floor_ids.insert(idOfSurface(frame, frames[f].truth, 0));
+      table_ids.insert(idOfSurface(frame, frames[f].truth, 1));
+      for (const StandingObject& o : frame.result.objects) {
+        EXPECT_EQ(o.plane_id, frame.result.planes[o.plane_index].id)
+            << "an object names its plane's persistent id";
+      }
+    }
+    EXPECT_EQ(floor_ids.size(), 1u) << toString(identity) << ": one id for the floor";
+    EXPECT_FALSE(floor_ids.count(-1)) << toString(identity) << ": the floor is in every frame";
+    EXPECT_EQ(table_ids.size(), 1u) << toString(identity);
+    EXPECT_FALSE(table_ids.count(-1)) << toString(identity) << ": the table is in every frame";
+    EXPECT_NE(*floor_ids.begin(), *table_ids.begin());
+    EXPECT_EQ(pipeline.counters().frames, frames.size());
+    EXPECT_EQ(pipeline.mapSize() > 0, identity == Identity::kMap);
+  }
+}
+
+TEST(FramePipeline, AnAccelerometerIsAveragedOverItsWindowOfSeconds) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 160);
+  const synthetic::Camera& camera = frames[0].camera;
+  const Eigen::Vector3d g = 9.81 * (camera.pose.linear().transpose() * Eigen::Vector3d::UnitZ());
+  // The camera shaken sideways, ±3 m/s² on alternate frames (17° off gravity each).
+  const Eigen::Vector3d shake = 3.0 * g.unitOrthogonal();
+  PipelineOptions options;
+  options.gravity_window_s = 0.33;  // ten frames at 30 Hz
+  FramePipeline averaged(options);
+  options.gravity_window_s = 0;  // each sample alone
+  FramePipeline alone(options);
+  FrameOutputs planes_only;
+  planes_only.objects = false;
+  double averaged_error = 0, alone_error = 0;
+  for (int f = 0; f < 20; ++f) {
+    const Eigen::Vector3d sample = g + (f % 2 ? shake : Eigen::Vector3d(-shake));
+    const auto view = PointsView::of(frames[0].cloud);
+    averaged_error = tiltErrorDeg(
+        averaged.processWithGravity(view, f / 30.0, sample, planes_only).orientation, camera);
+    alone_error = tiltErrorDeg(
+        alone.processWithGravity(view, f / 30.0, sample, planes_only).orientation, camera);
+  }
+  EXPECT_NEAR(alone_error, std::atan(3.0 / 9.81) / kDegree, 0.1) << "one sample: its own tilt";
+  EXPECT_LT(averaged_error, 0.1) << "ten samples, five shaken each way, cancel";
+  // A sample older than the window no longer counts: a frame 1 s later sees its own only.
+  const Frame later = averaged.processWithGravity(PointsView::of(frames[0].cloud), 20.0 / 30 + 1,
+                                                  g + shake, planes_only);
+  EXPECT_NEAR(tiltErrorDeg(later.orientation, camera), std::atan(3.0 / 9.81) / kDegree, 0.1);
+  EXPECT_THROW(averaged.processWithGravity(PointsView::of(frames[0].cloud), 2, g * 1e-3),
+               std::invalid_argument)
+      << "milli-g is not m/s²";
+}
+
+// A wall seen head-on from 2 m: nothing level.
+pcl::PointCloud<pcl::PointXYZ> wallAhead() {
+  pcl::PointCloud<pcl::PointXYZ> wall;
+  for (double x = -1; x <= 1; x += 0.01) {
+    for (double y = -0.8; y <= 0.8; y += 0.01) wall.push_back(pcl::PointXYZ(x, y, 2.0));
+  }
+  return wall;
+}
+
+TEST(FramePipeline, UpFromTheSceneHoldsWhileNothingIsLevelThenSkips) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 320);
+  PipelineOptions options;
+  options.levelling = SceneLevelling::kEstimate;
+  options.level_hold_s = 2.5 / 30;  // two frames at 30 Hz
+  FramePipeline pipeline(options);
+  const Orientation at_origin = Orientation::identity().withViewpoint(Eigen::Vector3d::Zero());
+  const Frame level = pipeline.process(PointsView::of(frames[0].cloud), 0, at_origin);
+  ASSERT_TRUE(level.processed) << level.skipped;
+  ASSERT_TRUE(level.levelling);
+  EXPECT_LT(tiltErrorDeg(level.orientation, frames[0].camera), 1.0);
+  const auto wall = wallAhead();
+  for (int f = 1; f <= 3; ++f) {
+    const Frame facing_wall = pipeline.process(PointsView::of(wall), f / 30.0, at_origin);
+    if (f <= 2) {
+      EXPECT_TRUE(facing_wall.processed) << "frame " << f << " holds the last up";
+      EXPECT_TRUE(facing_wall.level_held);
+      EXPECT_LT(tiltErrorDeg(facing_wall.orientation, frames[0].camera), 1.0);
+    } else {
+      EXPECT_FALSE(facing_wall.processed) << "past the hold, the frame is skipped";
+      EXPECT_FALSE(facing_wall.skipped.empty());
+    }
+  }
+  EXPECT_EQ(pipeline.counters().levelled, 1u);
+  EXPECT_EQ(pipeline.counters().level_held, 2u);
+  EXPECT_EQ(pipeline.counters().skipped, 1u);
+  // Without an earlier up there is nothing to hold.
+  FramePipeline fresh(options);
+  EXPECT_FALSE(fresh.process(PointsView::of(wall), 0, at_origin).processed);
+}
+
+TEST(FramePipeline, ARefinementCorrectsAGivenOrientationTiltedBy2Degrees) {
+  const std::vector<RenderedCloud> frames = renderPan(3, 320);
+  PipelineOptions options;
+  options.levelling = SceneLevelling::kRefine;
+  FramePipeline pipeline(options);
+  const Eigen::Isometry3d tilt(Eigen::AngleAxisd(2 * kDegree, Eigen::Vector3d::UnitX()));
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const Orientation given = Orientation::fromTransform(tilt * frames[f].camera.pose);
+    ASSERT_NEAR(tiltErrorDeg(given, frames[f].camera), 2.0, 1e-6);
+    const Frame frame = pipeline.process(PointsView::of(frames[f].cloud), f / 30.0, given);
+    ASSERT_TRUE(frame.levelling);
+    EXPECT_TRUE(frame.levelling->applied) << frame.levelling->note;
+    EXPECT_LT(tiltErrorDeg(frame.orientation, frames[f].camera), 0.3) << "frame " << f;
+  }
+}
+
+TEST(FramePipeline, TimeGoingBackRestartsTheTracksAndNeverReusesAnId) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 160);
+  FramePipeline pipeline;
+  std::set<int> first_ids;
+  for (int f = 0; f < 2; ++f) {
+    const Frame frame = pipeline.process(PointsView::of(frames[f].cloud), 10.0 + f,
+                                         Orientation::fromTransform(frames[f].camera.pose));
+    EXPECT_FALSE(frame.time_jump);
+    for (const auto& p : frame.result.planes) first_ids.insert(p.id);
+  }
+  ASSERT_FALSE(first_ids.empty());
+  const Frame replay = pipeline.process(PointsView::of(frames[0].cloud), 10.0,
+                                        Orientation::fromTransform(frames[0].camera.pose));
+  EXPECT_TRUE(replay.time_jump);
+  EXPECT_EQ(pipeline.counters().time_jumps, 1u);
+  ASSERT_FALSE(replay.result.planes.empty());
+  for (const auto& p : replay.result.planes) {
+    EXPECT_FALSE(first_ids.count(p.id)) << "id " << p.id << " given twice";
+  }
+}
+
+TEST(FramePipeline, PlacementsAreAnsweredOnTheFrameAskedAfterLaterFrames) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 640);
+  FramePipeline pipeline;
+  FrameOutputs keep;
+  keep.keep_points = true;
+  const Frame first = pipeline.process(PointsView::of(frames[0].cloud), 0,
+                                       Orientation::fromTransform(frames[0].camera.pose), keep);
+  PlacementQuery query;
+  query.footprint.width = 0.2;
+  query.footprint.depth = 0.2;
+  const std::vector<Placement> at_once = pipeline.findPlacements(first, query);
+  ASSERT_FALSE(at_once.empty()) << "a 20 cm square fits on the floor";
+  pipeline.process(PointsView::of(frames[1].cloud), 1.0 / 30,
+                   Orientation::fromTransform(frames[1].camera.pose), keep);
+  const std::vector<Placement> later = pipeline.findPlacements(first, query);
+  ASSERT_EQ(later.size(), at_once.size());
+  for (std::size_t k = 0; k < later.size(); ++k) {
+    EXPECT_EQ(later[k].centre, at_once[k].centre);
+  }
+  const Frame without = pipeline.process(PointsView::of(frames[1].cloud), 2.0 / 30,
+                                         Orientation::fromTransform(frames[1].camera.pose));
+  EXPECT_THROW(pipeline.findPlacements(without, query), std::invalid_argument);
+}
+
+TEST(FramePipeline, NewOptionsRestartTheMapOnlyWhenItsCellsChangeAndBadOnesChangeNothing) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 160);
+  PipelineOptions options;
+  options.identity = Identity::kMap;
+  FramePipeline pipeline(options);
+  pipeline.process(PointsView::of(frames[0].cloud), 0,
+                   Orientation::fromTransform(frames[0].camera.pose));
+  const std::size_t entries = pipeline.mapSize();
+  ASSERT_GT(entries, 0u);
+  options.objects = false;
+  EXPECT_TRUE(pipeline.setOptions(options).empty());
+  EXPECT_EQ(pipeline.mapSize(), entries);
+  PipelineOptions bad = options;
+  bad.extraction.r_xy = -1;
+  EXPECT_THROW(pipeline.setOptions(bad), std::invalid_argument);
+  EXPECT_EQ(pipeline.options().extraction.r_xy, options.extraction.r_xy);
+  options.extraction.r_xy = 0.04;
+  const auto notes = pipeline.setOptions(options);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("surface map restarted"), std::string::npos) << notes[0];
+  EXPECT_EQ(pipeline.mapSize(), 0u);
+  EXPECT_THROW(
+      pipeline.processWithGravity(PointsView::of(frames[0].cloud), 1, Eigen::Vector3d(0, -9.81, 0)),
+      std::invalid_argument)
+      << "a map needs poses";
+  PipelineOptions smoothing = PipelineOptions();
+  smoothing.level_smoothing = 0;
+  EXPECT_THROW(FramePipeline{smoothing}, std::invalid_argument);
+  EXPECT_EQ(identityFromString("map"), Identity::kMap);
+  EXPECT_THROW(identityFromString("nearest"), std::invalid_argument);
+  EXPECT_EQ(sceneLevellingFromString("refine"), SceneLevelling::kRefine);
+}
+
+}  // namespace
+}  // namespace hope

@@ -24,13 +24,13 @@ cd "$out"
 # is no use to an uninstrumented downstream build, so it runs in the ordinary suite only.
 echo "== unit tests under ASan + UBSan"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure \
-  -E "rostest|python_bindings|downstream_install"
+  -E "rostest|python_|downstream_install"
 echo "== rostests under ASan + UBSan (runtime preloaded into the ROS processes)"
 LD_PRELOAD=$asan_runtime ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0 \
   ctest --output-on-failure -R rostest
 # python3 loads libstdc++ only with the bindings, after the ASan runtime has looked for the
 # real __cxa_throw (ASan then aborts on the first C++ exception): preload libstdc++ too.
-echo "== the Python bindings under ASan + UBSan (runtime preloaded into the interpreter)"
+echo "== the Python tests under ASan + UBSan (runtime preloaded into the interpreter)"
 LD_PRELOAD="$asan_runtime $(gcc -print-file-name=libstdc++.so.6)" \
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0 \
-  ctest --output-on-failure -R python_bindings
+  ctest --output-on-failure -R "^python_"

@@ -108,7 +108,8 @@ const char* toString(UpPrior prior) {
 
 LevellingParams LevellingParams::forExtraction(const Params& params) {
   LevellingParams levelling;
-  levelling.cell = std::min(10.0, 2.0 * params.r_xy);
+  // Within the levelling grid's own range: an extraction at 0.1 mm is levelled on 1 mm cells.
+  levelling.cell = std::clamp(2.0 * params.r_xy, 0.001, 10.0);
   return levelling;
 }
 

@@ -11,7 +11,7 @@
 A stream, with the nodelet's and hope_extract --sequence's policy (persistent ids, objects,
 an accelerometer averaged over a window, up from the scene smoothed and held):
 
-    pipeline = hope.Pipeline(tracking="improved", levelling="off")
+    pipeline = hope.Pipeline(tracking_mode="improved", levelling="off")
     for stamp, points, gravity in frames:
         frame = pipeline.process(points, stamp, gravity=gravity)
         print([(p.id, p.height) for p in frame.planes], len(frame.objects))
@@ -32,6 +32,7 @@ from hope._hope import (  # noqa: F401  (re-exported)
     SurfaceMap,
     TrackEvent,
     depth_to_cloud,
+    parameters,
     plane_color,
     read_cloud,
 )
@@ -46,6 +47,7 @@ __all__ = [
     "SurfaceMap",
     "TrackEvent",
     "depth_to_cloud",
+    "parameters",
     "plane_color",
     "read_cloud",
 ]

@@ -1,6 +1,7 @@
 // Python bindings of the core (module hope._hope, re-exported by the package hope): the
 // extractor, the tracker and the depth-image path, taking and returning NumPy arrays. Uses
 // only pybind11 APIs present in 2.4 (Ubuntu 20.04, ROS Noetic).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include "hope/depth_image.h"
 #include "hope/extractor.h"
 #include "hope/frame_pipeline.h"
+#include "hope/parameters.h"
 #include "hope/plane_colors.h"
 #include "hope/plane_tracker.h"
 #include "hope/surface_map.h"
@@ -417,6 +419,101 @@ py::array readCloud(const std::string& path) {
                                         static_cast<py::ssize_t>(cloud.width), 3});
   }
   return ownedArray(std::move(flat), {n, 3});
+}
+
+// hope.Pipeline(levelling="off", **parameters): every keyword is a row of the parameter table
+// (parameters.h), so Python takes exactly the parameters the nodelet and hope_extract take.
+std::unique_ptr<PyPipeline> makePipeline(const std::string& levelling, const py::kwargs& kwargs) {
+  hope::PipelineOptions options;
+  options.levelling = hope::sceneLevellingFromString(levelling);
+  const std::vector<hope::ParameterSpec>& table = hope::pipelineParameters();
+  for (const auto& item : kwargs) {
+    const std::string name = py::str(item.first);
+    const auto spec = std::find_if(table.begin(), table.end(),
+                                   [&](const hope::ParameterSpec& p) { return p.name == name; });
+    if (spec == table.end()) {
+      std::string known;
+      for (const auto& p : table) known += (known.empty() ? "" : ", ") + p.name;
+      throw py::type_error("Pipeline() got an unexpected keyword '" + name + "' (it takes " +
+                           "levelling and " + known + ")");
+    }
+    const py::handle value = item.second;
+    if (spec->type == hope::ParameterSpec::Type::kChoice) {
+      const auto choice =
+          std::find(spec->choices.begin(), spec->choices.end(),
+                    py::isinstance<py::str>(value) ? value.cast<std::string>() : std::string("?"));
+      if (choice == spec->choices.end()) {
+        throw py::value_error(name + " must be one of " +
+                              py::str(py::cast(spec->choices)).cast<std::string>());
+      }
+      spec->set(options, static_cast<double>(choice - spec->choices.begin()));
+    } else if (spec->type == hope::ParameterSpec::Type::kBool) {
+      if (!py::isinstance<py::bool_>(value)) throw py::type_error(name + " must be True or False");
+      spec->set(options, value.cast<bool>() ? 1.0 : 0.0);
+    } else {
+      if (py::isinstance<py::bool_>(value) ||
+          !(py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value))) {
+        throw py::type_error(name + " must be a number");
+      }
+      const double number = value.cast<double>();
+      if (spec->type == hope::ParameterSpec::Type::kInt && number != std::floor(number)) {
+        throw py::value_error(name + " must be a whole number");
+      }
+      spec->set(options, number);
+    }
+  }
+  return std::make_unique<PyPipeline>(options);  // validates: ValueError naming the parameter
+}
+
+// The class's docstring: every keyword with its default, unit and meaning, from the table.
+std::string pipelineDoc() {
+  std::ostringstream doc;
+  doc << "One frame's whole policy, as the nodelet and hope_extract --sequence apply it: "
+         "orientation (given, an accelerometer averaged over gravity_window_s, or up from the "
+         "scene), planes, objects and persistent ids (include/hope/frame_pipeline.h).\n\n"
+         "Pipeline(levelling='off', **parameters): levelling 'off', 'estimate' (up from each "
+         "frame's scene) or 'refine' (the given orientation corrected). Parameters:\n";
+  for (const hope::ParameterSpec& p : hope::pipelineParameters()) {
+    doc << "  " << p.name << " = ";
+    if (p.type == hope::ParameterSpec::Type::kChoice) {
+      doc << "'" << p.default_choice << "'";
+    } else if (p.type == hope::ParameterSpec::Type::kBool) {
+      doc << (p.default_value != 0 ? "True" : "False");
+    } else {
+      doc << p.default_value;
+    }
+    doc << (p.unit.empty() ? "" : " " + p.unit) << ": " << p.doc << "\n";
+  }
+  return doc.str();
+}
+
+// hope.parameters(): the table as dicts.
+py::list parameterTable() {
+  py::list out;
+  for (const hope::ParameterSpec& p : hope::pipelineParameters()) {
+    py::dict d;
+    d["name"] = p.name;
+    d["option"] = p.option;
+    const char* types[] = {"double", "int", "bool", "choice"};
+    d["type"] = types[static_cast<int>(p.type)];
+    if (p.type == hope::ParameterSpec::Type::kChoice) {
+      d["default"] = p.default_choice;
+      d["choices"] = p.choices;
+    } else if (p.type == hope::ParameterSpec::Type::kBool) {
+      d["default"] = p.default_value != 0;
+    } else {
+      d["default"] = p.default_value;
+      d["min"] = p.min;
+      d["max"] = p.max;
+      d["min_excluded"] = p.min_excluded;
+    }
+    d["unit"] = p.unit;
+    d["stage"] = p.stage;
+    d["live"] = p.live;
+    d["doc"] = p.doc;
+    out.append(d);
+  }
+  return out;
 }
 
 py::array rows(const std::vector<Eigen::Vector3d>& points) {
@@ -837,59 +934,14 @@ PYBIND11_MODULE(_hope, m) {
           "forgets every entry; ids go on (never given twice)")
       .def("__len__", &hope::SurfaceMap::size);
 
-  const hope::PipelineOptions pipeline_defaults;
-  py::class_<PyPipeline>(m, "Pipeline",
-                         "One frame's whole policy, as the nodelet and hope_extract --sequence "
-                         "apply it: orientation (given, an accelerometer averaged over "
-                         "gravity_window seconds, or up from the scene), planes, objects and "
-                         "persistent ids. See include/hope/frame_pipeline.h")
-      .def(py::init([](double r_xy, double r_z, double min_height, double max_height,
-                       double min_area, bool merge_fragments, double max_merge_gap,
-                       bool bridge_scan_gaps, int threads, const std::string& tracking,
-                       const std::string& levelling, double level_bound, double level_smoothing,
-                       double level_hold, double gravity_window, bool objects,
-                       double object_max_height) {
-             hope::PipelineOptions o;
-             o.extraction.r_xy = r_xy;
-             o.extraction.r_z = r_z;
-             o.extraction.min_height = min_height;
-             o.extraction.max_height = max_height;
-             o.extraction.min_area = min_area;
-             o.extraction.merge_fragments = merge_fragments;
-             o.extraction.max_merge_gap = max_merge_gap;
-             o.extraction.bridge_scan_gaps = bridge_scan_gaps;
-             o.extraction.threads = threads;
-             o.identity = hope::identityFromString(tracking);
-             o.levelling = hope::sceneLevellingFromString(levelling);
-             o.level_bound_deg = level_bound;
-             o.level_smoothing = level_smoothing;
-             o.level_hold_s = level_hold;
-             o.gravity_window_s = gravity_window;
-             o.objects = objects;
-             o.object_params.max_height = object_max_height;
-             return std::make_unique<PyPipeline>(o);  // validates: ValueError naming the option
-           }),
-           py::arg("r_xy") = defaults.r_xy, py::arg("r_z") = defaults.r_z,
-           py::arg("min_height") = defaults.min_height, py::arg("max_height") = defaults.max_height,
-           py::arg("min_area") = defaults.min_area,
-           py::arg("merge_fragments") = defaults.merge_fragments,
-           py::arg("max_merge_gap") = defaults.max_merge_gap,
-           py::arg("bridge_scan_gaps") = defaults.bridge_scan_gaps,
-           py::arg("threads") = defaults.threads,
-           py::arg("tracking") = std::string(hope::toString(pipeline_defaults.identity)),
-           py::arg("levelling") = std::string(hope::toString(pipeline_defaults.levelling)),
-           py::arg("level_bound") = pipeline_defaults.level_bound_deg,
-           py::arg("level_smoothing") = pipeline_defaults.level_smoothing,
-           py::arg("level_hold") = pipeline_defaults.level_hold_s,
-           py::arg("gravity_window") = pipeline_defaults.gravity_window_s,
-           py::arg("objects") = pipeline_defaults.objects,
-           py::arg("object_max_height") = pipeline_defaults.object_params.max_height)
+  py::class_<PyPipeline>(m, "Pipeline", pipelineDoc().c_str())
+      .def(py::init(&makePipeline), py::arg("levelling") = std::string("off"))
       .def("process", &PyPipeline::process, py::arg("points"), py::arg("stamp"),
            py::arg("gravity") = py::none(), py::arg("quaternion") = py::none(),
            py::arg("pose") = py::none(), py::arg("transform") = py::none(),
            py::arg("viewpoint") = py::none(), py::arg("placements") = false,
            "One frame (stamp in seconds). Orientation: at most one of gravity (an accelerometer "
-           "sample in m/s², sensor frame, averaged over gravity_window seconds), quaternion, "
+           "sample in m/s², sensor frame, averaged over gravity_window_s seconds), quaternion, "
            "pose or transform (4 x 4); with levelling='estimate' none. Returns an "
            "ExtractionResult with persistent ids, objects, events; skipped is set when the frame "
            "was skipped. placements=True keeps the frame's points for place().")
@@ -899,12 +951,16 @@ PYBIND11_MODULE(_hope, m) {
            "Where a width x depth footprint fits on the planes of `result` (a process(..., "
            "placements=True) result): dicts plane_id, x, y, z, yaw, margin, best first.")
       .def("map_surfaces", &PyPipeline::mapSurfaces,
-           "tracking='map': the map's entries as Planes, oldest first")
+           "tracking_mode='map': the map's entries as Planes, oldest first")
       .def_property_readonly(
-          "tracking", [](const PyPipeline& p) { return hope::toString(p.options().identity); })
+          "tracking_mode", [](const PyPipeline& p) { return hope::toString(p.options().identity); })
       .def_property_readonly(
           "levelling", [](const PyPipeline& p) { return hope::toString(p.options().levelling); });
 
+  m.def("parameters", &parameterTable,
+        "every parameter of hope.Pipeline, the nodelet and hope_extract (include/hope/"
+        "parameters.h): dicts name, option (hope_extract's), type, default, min, max, unit, "
+        "stage, live (the nodelet takes it while running), doc");
   m.def("read_cloud", &readCloud, py::arg("path"),
         "a .pcd (ascii, binary, binary_compressed) or .ply file as hope_extract reads it: "
         "H x W x 3 float32 for an organized cloud, N x 3 otherwise (metres, NaN where nothing "

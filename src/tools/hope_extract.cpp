@@ -23,6 +23,7 @@
 
 #include "hope/extractor.h"
 #include "hope/frame_pipeline.h"
+#include "hope/parameters.h"
 #include "hope/tools/cli.h"
 #include "hope/tools/io.h"
 #include "hope/tools/map_extents.h"
@@ -298,27 +299,46 @@ hope::PinholeIntrinsics sequenceIntrinsics(const Options& o,
   return k;
 }
 
-hope::Params parameters(const Options& o) {
-  hope::Params params;
-  params.r_xy = number(o, "--r-xy", params.r_xy);
-  params.r_z = number(o, "--r-z", params.r_z);
-  params.min_height = number(o, "--min-height", params.min_height);
-  params.max_height = number(o, "--max-height", params.max_height);
-  params.min_area = number(o, "--min-area", params.min_area);
-  params.merge_fragments = !o.flag("--no-merge");
-  params.max_merge_gap = number(o, "--max-merge-gap", params.max_merge_gap);
-  params.bridge_scan_gaps = !o.flag("--no-bridge");
-  // One thread unless asked: on a loaded machine a second one gains nothing
-  // (docs/benchmark_threads.txt).
-  params.threads = wholeNumber(o, "--threads", 1, 0, 1024);
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  if (cores > 0 && params.threads > cores) {
-    std::cerr << "hope_extract: warning: --threads " << params.threads << ": this machine has "
-              << cores << " core(s); using " << cores << "\n";
-    params.threads = cores;
+// Every parameter of the table (hope/parameters.h) that hope_extract takes, from its option: a
+// number, a choice, or a "--no-..." flag switching a default-on part off.
+hope::PipelineOptions pipelineOptions(const Options& o) {
+  hope::PipelineOptions options;
+  for (const hope::ParameterSpec& spec : hope::pipelineParameters()) {
+    if (spec.option.empty()) continue;
+    if (spec.type == hope::ParameterSpec::Type::kBool) {
+      if (o.flag(spec.option)) spec.set(options, 0.0);
+    } else if (!o.values.count(spec.option)) {
+      continue;
+    } else if (spec.type == hope::ParameterSpec::Type::kChoice) {
+      const std::string& value = o.values.at(spec.option);
+      const auto choice = std::find(spec.choices.begin(), spec.choices.end(), value);
+      if (choice == spec.choices.end()) {
+        std::string known;
+        for (const auto& c : spec.choices) known += (known.empty() ? "" : ", ") + c;
+        throw std::invalid_argument(spec.name.substr(0, spec.name.find('_')) + " '" + value +
+                                    "' is not one of " + known);
+      }
+      spec.set(options, static_cast<double>(choice - spec.choices.begin()));
+    } else if (spec.type == hope::ParameterSpec::Type::kInt) {
+      spec.set(options, wholeNumber(o, spec.option, 0, static_cast<int>(spec.min),
+                                    static_cast<int>(spec.max)));
+    } else {
+      spec.set(options, number(o, spec.option, spec.default_value));
+    }
   }
-  return params;
+  // One thread unless asked (the table's default): on a loaded machine a second one gains
+  // nothing (docs/performance.md).
+  int& threads = options.extraction.threads;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  if (cores > 0 && threads > cores) {
+    std::cerr << "hope_extract: warning: --threads " << threads << ": this machine has " << cores
+              << " core(s); using " << cores << "\n";
+    threads = cores;
+  }
+  return options;
 }
+
+hope::Params parameters(const Options& o) { return pipelineOptions(o).extraction; }
 
 // --place "W D [CLEARANCE]", checked before any file is read.
 std::optional<hope::PlacementQuery> placementQuery(const Options& o) {
@@ -533,29 +553,18 @@ void writeFrameLine(std::ostream& jsonl, const std::string& file, const hope::Fr
 int runSequence(const Options& o) {
   const SequencePlan plan = sequencePlan(o);
   const hope::tools::SequenceOptions& seq = plan.listing;
-  hope::PipelineOptions pipeline_options;
-  pipeline_options.extraction = parameters(o);
+  hope::PipelineOptions pipeline_options = pipelineOptions(o);
   pipeline_options.levelling = plan.levelling;
   if (!o.flag("--level") && o.values.count("--level-bound")) {
     throw std::invalid_argument("--level-bound goes with --level");
   }
-  pipeline_options.level_bound_deg = number(o, "--level-bound", pipeline_options.level_bound_deg);
-  pipeline_options.level_smoothing =
-      number(o, "--level-smoothing", pipeline_options.level_smoothing);
-  pipeline_options.level_hold_s = number(o, "--level-hold", pipeline_options.level_hold_s);
-  pipeline_options.gravity_window_s =
-      number(o, "--gravity-window", pipeline_options.gravity_window_s);
-  pipeline_options.objects = !o.flag("--no-objects");
-  pipeline_options.object_params.max_height =
-      number(o, "--object-max-height", pipeline_options.object_params.max_height);
   // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
   // id for the whole run. Gravity alone leaves the camera's position unknown: frame-to-frame
   // tracking.
   const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
-  const std::string tracking = o.values.count("--tracking") ? o.values.at("--tracking")
-                               : fixed_frame                ? "map"
-                                                            : "improved";
-  pipeline_options.identity = hope::identityFromString(tracking);
+  if (!o.values.count("--tracking") && fixed_frame)
+    pipeline_options.identity = hope::Identity::kMap;
+  const std::string tracking = hope::toString(pipeline_options.identity);
   const bool use_map = pipeline_options.identity == hope::Identity::kMap;
   if (use_map && !fixed_frame) {
     throw std::invalid_argument(

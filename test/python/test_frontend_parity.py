@@ -48,7 +48,7 @@ def python_run(folder, mode):
     poses = read_stamped(os.path.join(folder, "groundtruth.txt"))
     accel = read_stamped(os.path.join(folder, "accelerometer.txt"))
     pipeline = hope.Pipeline(
-        tracking="map" if mode == "poses" else "improved",
+        tracking_mode="map" if mode == "poses" else "improved",
         levelling="estimate" if mode == "scene" else "off",
     )
     frames = []

@@ -81,9 +81,11 @@ hope::tools::CommandLine commandLine() {
       .value("--sequence", "DIR",
              "a TUM RGB-D folder (depth.txt, rgb.txt, the PNGs), or a folder of .pcd files named "
              "by timestamp (or sorted by name)")
-      .value("--groundtruth", "FILE",
-             "TUM poses \"timestamp tx ty tz qx qy qz qw\" (default DIR/groundtruth.txt); each "
-             "frame takes the pose nearest in time; heights are real heights")
+      .value(
+          "--groundtruth", "FILE",
+          "TUM poses \"timestamp tx ty tz qx qy qz qw\" (default DIR/groundtruth.txt); each "
+          "frame takes the pose of its own time, interpolated between the two around it; heights "
+          "are real heights")
       .value("--accelerometer", "FILE",
              "TUM accelerometer.txt \"timestamp ax ay az\" (m/s^2, optical frame, pointing up at "
              "rest): gravity only, heights relative to the camera")

@@ -1,6 +1,9 @@
 // Objects standing on planes and placements, on scenes whose answer is known by construction:
 // a z-up table 0.7 m above a floor with boxes and a can on it, a shelf, a book, a hole.
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -321,6 +324,134 @@ TEST(StandingObjects, AnObjectOverhangingTheEdgeIsFoundWhole) {
   EXPECT_EQ(o.plane_index, planeNear(e.result, kTable, 0.01));
   EXPECT_LT(sideError(o, size), 0.05);
   EXPECT_NEAR(o.box_centre.x(), at.x(), 0.03);
+}
+
+// Rendered rooms seen by a Kinect-like camera (noise growing with the square of the range,
+// depth steps, no return at grazing angles), scored against the things each pixel shows.
+struct RenderedScene {
+  synthetic::RenderedFrame frame;
+  Result result;
+  RenderedScene(const synthetic::Scene& scene, const synthetic::Camera& camera) {
+    frame = scene.render(camera, synthetic::SensorNoise::kinectLike());
+    const auto cloud = depthToCloud(frame.depth, camera.intrinsics, 1.0);
+    ExtractOutputs outputs;
+    outputs.objects = true;
+    Extractor extractor;
+    result = extractor.extract(cloud, Orientation::fromTransform(camera.pose), outputs);
+  }
+  int thingAt(std::size_t i) const { return frame.things.at<std::int32_t>(static_cast<int>(i)); }
+  bool seen(std::size_t i) const { return frame.depth.at<float>(static_cast<int>(i)) > 0; }
+  // Of thing t's seen points, the share the object holding most of them holds, and that object.
+  double largestShare(int t, int* object = nullptr) const {
+    std::vector<std::size_t> held(result.objects.size(), 0);
+    std::size_t points = 0;
+    for (std::size_t i = 0; i < result.point_objects.size(); ++i) {
+      if (!seen(i) || thingAt(i) != t) continue;
+      ++points;
+      if (result.point_objects[i] >= 0) ++held[result.point_objects[i]];
+    }
+    const auto most = std::max_element(held.begin(), held.end());
+    if (object) *object = most == held.end() ? -1 : static_cast<int>(most - held.begin());
+    return points && most != held.end() ? static_cast<double>(*most) / points : 0.0;
+  }
+  // Objects with fewer than half their points on any one thing.
+  int falseObjects() const {
+    std::vector<std::map<int, std::size_t>> on(result.objects.size());
+    for (std::size_t i = 0; i < result.point_objects.size(); ++i) {
+      if (result.point_objects[i] >= 0) ++on[result.point_objects[i]][thingAt(i)];
+    }
+    int count = 0;
+    for (std::size_t o = 0; o < on.size(); ++o) {
+      std::size_t most = 0;
+      for (const auto& [thing, n] : on[o]) {
+        if (thing != synthetic::kNoThing) most = std::max(most, n);
+      }
+      count += 2 * most < result.objects[o].num_points ? 1 : 0;
+    }
+    return count;
+  }
+};
+
+// A floor seen from 1.2 m, a box 0.3 m tall and a ball standing on it 0.6 m apart.
+synthetic::Scene boxAndBall(double distance) {
+  synthetic::Scene scene;
+  scene.add<synthetic::Box>(V3(-1, -4, -0.05), V3(9, 4, 0), 0);  // the floor, no thing
+  scene.add<synthetic::Box>(V3(distance - 0.2, -0.45, 0), V3(distance + 0.2, -0.15, 0.3), 1).thing =
+      0;
+  scene.add<synthetic::Sphere>(V3(distance, 0.3, 0.15), 0.15).thing = 1;
+  return scene;
+}
+
+// Where a Kinect's depth noise is 2 mm (1.5 m) and where it is 20 mm (3.5 m): points of one
+// surface lie farther apart along the ray than a fixed centimetre grid joins, and a fixed grid
+// shattered a far thing into dozens of objects. Each thing is one object at every range.
+TEST(StandingObjects, ABoxAndABallAreOneObjectEachAtEveryRangeAKinectSees) {
+  for (double distance : {1.5, 2.5, 3.5}) {
+    SCOPED_TRACE("things " + std::to_string(distance) + " m away");
+    const RenderedScene seen(boxAndBall(distance),
+                             synthetic::Camera::lookingAt(V3(0, 0, 1.2), V3(distance, 0, 0.15)));
+    EXPECT_EQ(seen.result.objects.size(), 2u) << objectsOf(seen.result);
+    int box = -1, ball = -1;
+    EXPECT_GT(seen.largestShare(0, &box), 0.8);
+    EXPECT_GT(seen.largestShare(1, &ball), 0.8);
+    EXPECT_NE(box, ball);
+    EXPECT_EQ(seen.falseObjects(), 0);
+  }
+}
+
+// A wall rises from the floor past max_height with no top of its own: structure, not a thing
+// on the floor. The box in front of it is the only object, and no point of the wall is one.
+TEST(StandingObjects, AWallRisingFromTheFloorIsNoObject) {
+  synthetic::Scene scene = boxAndBall(2.5);
+  scene.add<synthetic::Box>(V3(-1, 1.0, 0), V3(9, 1.1, 2.5), synthetic::kNoPlane);
+  const RenderedScene seen(scene,
+                           synthetic::Camera::lookingAt(V3(0, -0.5, 1.2), V3(2.5, 0.3, 0.3)));
+  EXPECT_EQ(seen.result.objects.size(), 2u) << objectsOf(seen.result);
+  EXPECT_GT(seen.largestShare(0), 0.8);
+  EXPECT_GT(seen.largestShare(1), 0.8);
+  std::size_t structure = 0, in_objects = 0;  // the floor's and the wall's points
+  for (std::size_t i = 0; i < seen.result.point_objects.size(); ++i) {
+    if (!seen.seen(i) || seen.thingAt(i) != synthetic::kNoThing) continue;
+    ++structure;
+    in_objects += seen.result.point_objects[i] >= 0 ? 1 : 0;
+  }
+  ASSERT_GT(structure, 0u);
+  EXPECT_EQ(in_objects, 0u) << "of " << structure << " floor and wall points";
+}
+
+// The demo room holds eight things: a table (its top on four legs, 0.75 m), a book, a cone and
+// a lying tube on it, a low cabinet, a block of two stair treads, a ramp and a ball. The table
+// is taller than max_height and carries its own top: one thing with its legs. Each is found
+// (its largest object holds at least half of it), and no object is false.
+TEST(StandingObjects, TheDemoRoomsThingsAreItsObjects) {
+  const RenderedScene seen(synthetic::demoRoom(), synthetic::demoCamera());
+  for (int t = 0; t < synthetic::demo::kThings; ++t) {
+    SCOPED_TRACE("thing " + std::to_string(t));
+    EXPECT_GT(seen.largestShare(t), t == synthetic::demo::kTable ? 0.9 : 0.8);
+  }
+  EXPECT_EQ(seen.falseObjects(), 0) << objectsOf(seen.result);
+}
+
+TEST(StandingObjects, ObjectParametersOutOfRangeAreRefusedWithTheReason) {
+  auto refusal = [](const ObjectParams& params) {
+    try {
+      validate(params);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  ObjectParams params;
+  EXPECT_EQ(refusal(params), "accepted");
+  params.max_top_height = 0;
+  EXPECT_NE(refusal(params).find("max_top_height = 0 is out of range (0, 100]"), std::string::npos);
+  params = ObjectParams();
+  params.noise = RangeNoise{0.001, -0.01, 0, 0};
+  EXPECT_NE(refusal(params).find("object noise"), std::string::npos);
+  params.noise = RangeNoise{std::numeric_limits<double>::quiet_NaN(), 0, 0, 0};
+  EXPECT_NE(refusal(params).find("object noise"), std::string::npos);
+  params.noise = RangeNoise::lidar();
+  EXPECT_EQ(refusal(params), "accepted");
 }
 
 // Placements rest on observed table only: not on the hole where a box stands, not on the strip

@@ -22,6 +22,13 @@ struct CreaseParams {
   // Side of a patch, metres: large enough that its points give a normal through a depth
   // camera's noise (~3 mm at 1 m), small enough that a 5 cm box side has patches of its own.
   double patch = 0.02;
+  // Per object (indexed as object_of_point's objects), a patch side for it instead of `patch`
+  // (an object seen from farther away, where the points are noisier, needs larger patches);
+  // empty: `patch` for all.
+  std::vector<double> object_patch;
+  // Per object, whether it was joined across a gap its points do not bridge (a tall thing's
+  // top and its legs): its parts that touch no other part stay with its largest. Empty: none.
+  std::vector<std::uint8_t> joined_across_gap;
   // Adjacent patches whose normals differ by less than this are one surface whatever the sign
   // of the bend (a can's side, a bowl's rim), degrees.
   double smooth_deg = 10.0;

@@ -1,13 +1,18 @@
 // The objects standing on each plane: what a robot takes off a table (paper §1: "retrieving
 // the objects upon the surface"). For every plane seen from above, the points above it — more
-// than half a vertical cell (r_z / 2) and at most ObjectParams::max_height — over its occupied
-// cells with their holes filled (a hole in a table top is where something stands) and one cell
-// around them, joined into objects where they touch on a grid of r_z / 4 cells (or twice the
-// plane's sample spacing, where the cloud is sparser). Each point
-// goes to the highest plane below it whose area it stands over, so a box on a shelf, a cup on
-// a book and a can on the floor under a table each belong to their own surface. A plane that
-// stands on a lower one within max_height (a box's top, a book, a chair's seat) is the top of
-// an object there as well: its points carry both labels, and it still carries what stands on it.
+// than its noise (r_z / 2, or three times the sensor's range noise at the point, seen
+// vertically) and at most ObjectParams::max_height — over its occupied cells with their holes
+// filled (a hole in a table top is where something stands) and one cell around them, joined
+// into objects where they touch. They touch within a distance that follows the data: cells of
+// r_z / 4, or twice the plane's sample spacing where the cloud is sparser, or twice the
+// sensor's range noise at the point where that is larger (a far chair's samples scatter by
+// centimetres along the ray). Each point goes to the highest plane below it whose area it
+// stands over, so a box on a shelf, a cup on a book and a can on the floor under a table each
+// belong to their own surface. A plane that stands on a lower one (a box's top, a book, a
+// chair's seat) is the top of an object there as well: its points carry both labels, and it
+// still carries what stands on it. One higher than max_height (a cabinet's, a table's, up to
+// max_top_height) makes what stands under it, up to it, one thing with it. What rises to
+// max_height with no top of its own (a wall's foot, a partition) is structure, not an object.
 #pragma once
 
 #include <cstddef>
@@ -23,11 +28,42 @@
 
 namespace hope {
 
+// The standard deviation of a sensor's range reading at range d, metres:
+//   σ(d) = constant + per_metre · d + quadratic · (d − offset)².
+// Points of one surface lie about σ apart along the ray from neighbour to neighbour, so the
+// distance at which object points still touch grows with it (findStandingObjects).
+struct RangeNoise {
+  double constant = 0.0;
+  double per_metre = 0.0;
+  double quadratic = 0.0;
+  double offset = 0.0;
+  double at(double range) const {
+    return constant + per_metre * range + quadratic * (range - offset) * (range - offset);
+  }
+  // A structured-light or stereo depth camera (Kinect v1, RealSense D4xx class): the axial
+  // noise Nguyen, Izadi and Lovell measured on a Kinect (3DIMPVT 2012), 0.0012 + 0.0019 (d −
+  // 0.4)²: 1.9 mm at 1 m, 8 mm at 2 m, 26 mm at 4 m.
+  static RangeNoise depthCamera() { return {0.0012, 0.0, 0.0019, 0.4}; }
+  // A spinning LiDAR (Velodyne, Ouster class): about 1 cm, growing by 1 mm a metre (2 cm at
+  // 10 m, 5 cm at 40 m), from the makers' accuracy figures (±2–3 cm).
+  static RangeNoise lidar() { return {0.01, 0.001, 0.0, 0.0}; }
+};
+
 struct ObjectParams {
   // Points higher than this above a plane do not stand on it (a lamp above a table), metres.
+  // What reaches this high and carries no top of its own is structure (a wall's foot, a
+  // partition, a pillar), not an object: it is left out.
   double max_height = 0.5;
+  // A plane up to this far above a lower one (or max_height, when that is larger) is the top
+  // of a thing standing there (a cabinet, a table, a desk, a shelf): what stands under its area
+  // up to it is that thing, however far it rises past max_height, metres.
+  double max_top_height = 2.0;
   // Fewer points than this are noise (a stray return, a mixed pixel at an edge), not an object.
   std::size_t min_points = 40;
+  // The sensor's range noise (used with a known viewpoint); unset: Extractor takes a LiDAR's
+  // for a rings × azimuth layout or an unorganized cloud more than 10 m across, a depth
+  // camera's for any other (findStandingObjects alone: a depth camera's).
+  std::optional<RangeNoise> noise;
 };
 
 // Throws std::invalid_argument naming the parameter and its range.
@@ -60,8 +96,10 @@ struct StandingObjects {
 // The objects standing on `planes`, from the aligned points (relative to `local_origin`, as
 // Extractor::alignedPoints() gives them) and the points' plane labels (Result::point_labels).
 // Planes seen from below (facing kDown) carry nothing. With the sensor's `viewpoint` (in the
-// aligned points' frame), objects that touch are split at the concave creases between them
-// (crease_splitting.h); without it they stay one.
+// aligned points' frame), points touch within a distance that grows with the sensor's noise at
+// their range, and objects that touch are split at the concave creases between them
+// (crease_splitting.h); without it the distance follows each plane's sample spacing alone and
+// touching objects stay one.
 StandingObjects findStandingObjects(const AlignedPoints& points,
                                     const std::vector<HorizontalPlane>& planes,
                                     const std::vector<std::int32_t>& point_labels,

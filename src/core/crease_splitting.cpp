@@ -42,6 +42,8 @@ constexpr std::size_t kLeastPatchPoints = 6;
 // touching objects apart (weighted overlap 0.871); 0.03 lets slivers through (0.762), 0.06
 // joins nearly everything that touches (0.717; scripts/score_objects.sh).
 constexpr double kMostFlatVariation = 0.02;
+// cos 60°: the least angle between a convex step and the line where the faces meet.
+constexpr double kSaneCos = 0.5;
 
 }  // namespace
 
@@ -64,15 +66,23 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
     for (int o = 0; o < num_objects; ++o) parent[o] = o;
     return static_cast<std::size_t>(num_objects);
   };
-  if (num_objects == 0 || num_objects > kFieldLimit ||
-      ((highest - lowest) / params.patch).maxCoeff() >= kFieldLimit - 1) {
+  const auto patchOf = [&](std::int32_t object) {
+    return params.object_patch.size() > static_cast<std::size_t>(object)
+               ? params.object_patch[object]
+               : params.patch;
+  };
+  double finest_patch = params.patch;
+  for (int o = 0; o < num_objects; ++o) finest_patch = std::min(finest_patch, patchOf(o));
+  if (num_objects == 0 || num_objects > kFieldLimit || !(finest_patch > 0) ||
+      ((highest - lowest) / finest_patch).maxCoeff() >= kFieldLimit - 1) {
     return unchanged();
   }
   // Each object point's patch, then the distinct patches in key order.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   for (std::size_t i = 0; i < object_of_point.size(); ++i) {
     if (object_of_point[i] < 0) continue;
-    const Eigen::Vector3f q = (points[i] - lowest) / static_cast<float>(params.patch);
+    const Eigen::Vector3f q =
+        (points[i] - lowest) / static_cast<float>(patchOf(object_of_point[i]));
     keyed.emplace_back((static_cast<std::uint64_t>(object_of_point[i]) << 48) |
                            (static_cast<std::uint64_t>(q.x() + 1) << 32) |
                            (static_cast<std::uint64_t>(q.y() + 1) << 16) |
@@ -126,6 +136,16 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   // Adjacent patches (26-neighbourhood) of one object join when they meet smoothly or convexly.
   // Each pair once, from the smaller key, by one forward sweep per offset (as the objects' cells).
   const double smooth = std::cos(params.smooth_deg * M_PI / 180.0);
+  // Convex: (n1 − n2)·(c1 − c2) > 0, and sane (LCCP's sanity criterion): the step between
+  // the centroids runs across the line where the two planes meet, at 60° or more to it. Two
+  // faces that touch only at a corner (a box's top edge beside another box's side) are
+  // offset along that line, and their sign says nothing.
+  const auto convex = [](const Patch& p, const Patch& q) {
+    const Eigen::Vector3d step = p.centroid - q.centroid;
+    if ((p.normal - q.normal).dot(step) <= 0) return false;
+    const Eigen::Vector3d meet = p.normal.cross(q.normal);
+    return std::fabs(meet.dot(step)) <= kSaneCos * meet.norm() * step.norm();
+  };
   UnionFind parts(keys.size());
   std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;
   for (int dx = 0; dx <= 1; ++dx) {
@@ -141,9 +161,8 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
           const auto b = static_cast<std::uint32_t>(other);
           adjacent.emplace_back(a, b);
           const Patch &p = patches[a], &q = patches[b];
-          if (whole(keys[a]) || (p.flat && q.flat &&
-                                 (std::fabs(p.normal.dot(q.normal)) >= smooth ||
-                                  (p.normal - q.normal).dot(p.centroid - q.centroid) > 0))) {
+          if (whole(keys[a]) ||
+              (p.flat && q.flat && (std::fabs(p.normal.dot(q.normal)) >= smooth || convex(p, q)))) {
             parts.join(a, b);
           }
         }
@@ -199,6 +218,29 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   };
   joinSmallParts(params.min_part_points);
   while (joinSmallParts(params.min_points)) {
+  }
+  // In an object joined across a gap (params.joined_across_gap), a part that touches no other
+  // part of it was cut off by no crease (a table's leg whose top the table's edge hides): it
+  // stays with the object's largest part.
+  std::fill(part_points.begin(), part_points.end(), 0);
+  for (std::uint32_t k = 0; k < keys.size(); ++k) part_points[parts.find(k)] += patches[k].count;
+  std::vector<std::uint8_t> touches(keys.size(), 0);
+  for (const auto& [a, b] : adjacent) {
+    const std::uint32_t ra = parts.find(a), rb = parts.find(b);
+    if (ra != rb) touches[ra] = touches[rb] = 1;
+  }
+  std::vector<std::uint32_t> largest(static_cast<std::size_t>(num_objects), kNone);
+  for (std::uint32_t k = 0; k < keys.size(); ++k) {
+    const std::uint32_t root = parts.find(k);
+    std::uint32_t& best = largest[keys[k] >> 48];
+    if (best == kNone || part_points[root] > part_points[best]) best = root;
+  }
+  for (std::uint32_t k = 0; k < keys.size(); ++k) {
+    const std::uint32_t root = parts.find(k);
+    const std::size_t o = keys[k] >> 48;
+    if (!touches[root] && o < params.joined_across_gap.size() && params.joined_across_gap[o]) {
+      parts.join(root, largest[o]);
+    }
   }
   // The parts' indices in the order of their first point.
   std::vector<std::int32_t> index_of_part(keys.size(), -1);

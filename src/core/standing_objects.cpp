@@ -23,6 +23,20 @@ void validate(const ObjectParams& params) {
     msg << "object max_height = " << params.max_height << " is out of range (0, 100] m";
     throw std::invalid_argument(msg.str());
   }
+  if (!(params.max_top_height > 0 && params.max_top_height <= 100)) {
+    std::ostringstream msg;
+    msg << "object max_top_height = " << params.max_top_height << " is out of range (0, 100] m";
+    throw std::invalid_argument(msg.str());
+  }
+  if (params.noise) {
+    const RangeNoise& n = *params.noise;
+    for (double c : {n.constant, n.per_metre, n.quadratic, n.offset}) {
+      if (!(std::isfinite(c) && c >= 0 && c <= 100)) {
+        throw std::invalid_argument(
+            "object noise: each coefficient must be finite and in [0, 100]");
+      }
+    }
+  }
   if (params.min_points < 1 || params.min_points > 100000000) {
     throw std::invalid_argument("object min_points = " + std::to_string(params.min_points) +
                                 " is out of range [1, 1e8]");
@@ -132,6 +146,8 @@ constexpr int kMaxSupportPlanes = 255;
 // How far past a plane's edge an object standing on it may reach (a plate or a box jutting
 // out), metres.
 constexpr double kOverhang = 0.15;
+// Cell levels of r_z / 4 · 2^level: 5 mm to 64 cm at the default r_z.
+constexpr int kLevels = 8;
 bool cellKey(const Eigen::Vector3f& p, double cell, int plane, std::uint64_t& key) {
   const double ix = std::floor(p.x() / cell), iy = std::floor(p.y() / cell),
                iz = std::floor(p.z() / cell);
@@ -190,14 +206,16 @@ void smallestUprightBox(const std::vector<Eigen::Vector2d>& hull, Eigen::Vector2
 // A taller object pushed against a lower one rises beside the lower one's top, and what of it
 // stands over that top's box (the strip along the edge they share) was given to the top. Such
 // a part, on a raised plane, whose xy box touches that of an object on a lower plane rising
-// higher than the raised plane, is that object's: it is joined to it, and the objects are
-// numbered afresh (in the order of their first point). A cup on a book is not joined to the
-// book's sides, which rise no higher than the book.
+// higher than the raised plane, is that object's (the highest such): it is joined to it, and
+// the objects are numbered afresh (in the order of their first point), each with the larger
+// crease patch of the two and joined across a gap when either was. A cup on a book is not joined to
+// the book's sides, which rise no higher than the book.
 void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
                             const std::vector<std::uint8_t>& raised,
                             const Eigen::Vector3d& local_origin, double margin,
                             std::vector<std::int32_t>& object_of_point,
-                            std::vector<int>& object_plane) {
+                            std::vector<int>& object_plane, std::vector<double>& object_patch,
+                            std::vector<std::uint8_t>& joined_across_gap) {
   const std::size_t n = object_plane.size();
   bool any_raised = false;
   for (int p : object_plane) any_raised = any_raised || raised[p];
@@ -212,32 +230,79 @@ void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<Horiz
   for (std::size_t r = 0; r < n; ++r) {
     if (!raised[object_plane[r]]) continue;
     const double top_height = planes[object_plane[r]].height - local_origin.z();
+    // Of the objects it touches that rise past the top, the highest: the one it is a side of.
+    float highest = static_cast<float>(top_height + margin);
     for (std::size_t l = 0; l < n; ++l) {
-      if (l == r || raised[object_plane[l]] ||
-          planes[object_plane[l]].height >= planes[object_plane[r]].height ||
-          box[l].max().z() <= top_height + margin) {
+      if (l == r || planes[object_plane[l]].height >= planes[object_plane[r]].height ||
+          box[l].max().z() <= highest) {
         continue;
       }
       const Eigen::Vector2f gap = (box[r].min().head<2>() - box[l].max().head<2>())
                                       .cwiseMax(box[l].min().head<2>() - box[r].max().head<2>());
       if (gap.maxCoeff() <= margin) {
         into[r] = static_cast<std::int32_t>(l);
+        highest = box[l].max().z();
         joined = true;
-        break;
       }
     }
   }
   if (!joined) return;
   std::vector<std::int32_t> renumbered(n, -1);
   std::vector<int> plane_of;
+  std::vector<double> patch_of;
+  std::vector<std::uint8_t> gap_of;
   for (std::int32_t& o : object_of_point) {
     if (o < 0) continue;
     const std::int32_t target = into[o];
     if (renumbered[target] < 0) {
       renumbered[target] = static_cast<std::int32_t>(plane_of.size());
       plane_of.push_back(object_plane[target]);
+      patch_of.push_back(object_patch[target]);
+      gap_of.push_back(joined_across_gap[target]);
     }
-    o = renumbered[target];
+    const std::int32_t into_object = renumbered[target];
+    patch_of[into_object] = std::max(patch_of[into_object], object_patch[o]);
+    gap_of[into_object] = gap_of[into_object] | joined_across_gap[o];
+    o = into_object;
+  }
+  object_plane = std::move(plane_of);
+  object_patch = std::move(patch_of);
+  joined_across_gap = std::move(gap_of);
+}
+
+// Whether a plane (its centroid `centre`, relative to the local origin) stands over `area`:
+// its centroid is, or any corner of its `hull`.
+bool standsOver(const SupportArea& area, const Eigen::Vector3d& centre,
+                const std::vector<Eigen::Vector3d>& hull, const Eigen::Vector3d& local_origin) {
+  if (area.contains(static_cast<float>(centre.x()), static_cast<float>(centre.y()))) return true;
+  for (const Eigen::Vector3d& corner : hull) {
+    const Eigen::Vector3d q = corner - local_origin;
+    if (area.contains(static_cast<float>(q.x()), static_cast<float>(q.y()))) return true;
+  }
+  return false;
+}
+
+// Objects that a split or a join left with fewer than `least` points are noise: their points
+// go back to no object, and the others are numbered afresh in the order of their first point.
+void dropSmallObjects(std::size_t least, std::vector<std::int32_t>& object_of_point,
+                      std::vector<int>& object_plane) {
+  std::vector<std::size_t> count(object_plane.size(), 0);
+  for (std::int32_t o : object_of_point) {
+    if (o >= 0) ++count[o];
+  }
+  std::vector<std::int32_t> renumbered(object_plane.size(), -1);
+  std::vector<int> plane_of;
+  for (std::int32_t& o : object_of_point) {
+    if (o < 0) continue;
+    if (count[o] < least) {
+      o = -1;
+      continue;
+    }
+    if (renumbered[o] < 0) {
+      renumbered[o] = static_cast<std::int32_t>(plane_of.size());
+      plane_of.push_back(object_plane[o]);
+    }
+    o = renumbered[o];
   }
   object_plane = std::move(plane_of);
 }
@@ -283,25 +348,43 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   const double margin = params.r_z / 2;
   // A plane that itself stands on a lower one (a box's top, a book, a chair's seat on the
   // floor) is also the top of an object there: its points are object points too, and it still
-  // carries what stands on it.
+  // carries what stands on it. One higher than max_height (a cabinet's, a table's) is a tall
+  // thing's top: what stands under it up to its height belongs to the thing.
   // A raised plane of fewer than 8 cells carries nothing: on a can or a bottle the voxel
   // centroids of each slab form a level ring, a "plane" inside the object, which would cut it
   // in two; a book or a box top that carries a cup is larger.
   const double least_carrying_area = 8 * params.r_xy * params.r_xy;
+  const double max_top_height = std::max(object_params.max_top_height, object_params.max_height);
   std::vector<std::uint8_t> raised(planes.size(), 0), carrying(supports.size(), 1);
+  std::vector<int> stands_on_support(supports.size(), -1);  // the support a raised plane's on
+  std::vector<int> tall_top_over(supports.size(), -1);      // the support a tall top stands on
   for (std::size_t s = 0; s < supports.size(); ++s) {
     const HorizontalPlane& top = planes[supports[s]];
     const Eigen::Vector3d c = top.centroid - local_origin;
-    for (std::size_t lower = s + 1; lower < supports.size(); ++lower) {
-      const double above = top.height - planes[supports[lower]].height;
-      if (above <= margin) continue;
-      if (above > object_params.max_height) break;
-      if (areas[lower].contains(static_cast<float>(c.x()), static_cast<float>(c.y()))) {
-        raised[supports[s]] = 1;
-        carrying[s] = top.area >= least_carrying_area ? 1 : 0;
-        break;
+    // The highest plane below whose area holds its centroid; failing that, one of its corners
+    // (a thing hides the floor under and behind it, where the floor's area has no hole to
+    // fill).
+    int stands_on = -1;
+    for (int pass = 0; pass < 2 && stands_on < 0; ++pass) {
+      for (std::size_t lower = s + 1; lower < supports.size(); ++lower) {
+        const double above = top.height - planes[supports[lower]].height;
+        if (above <= margin) continue;
+        if (above > max_top_height) break;
+        const auto& corners = pass == 0 ? std::vector<Eigen::Vector3d>() : top.hull;
+        if (standsOver(areas[lower], c, corners, local_origin)) {
+          stands_on = static_cast<int>(lower);
+          break;
+        }
       }
     }
+    if (stands_on < 0) continue;
+    if (top.height - planes[supports[stands_on]].height > object_params.max_height) {
+      if (top.area < least_carrying_area) continue;  // a ring inside something tall
+      tall_top_over[s] = stands_on;
+    }
+    raised[supports[s]] = 1;
+    stands_on_support[s] = stands_on;
+    carrying[s] = top.area >= least_carrying_area ? 1 : 0;
   }
   // What rises beside an object's top (a taller box pushed against a lower one) is not on it:
   // an object's top carries only over its own points' box (the r_xy cells of its mask would
@@ -309,108 +392,273 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   for (std::size_t s = 0; s < supports.size(); ++s) {
     if (raised[supports[s]]) areas[s].tightenTo(planes[supports[s]], local_origin, margin);
   }
+  std::vector<double> local_height(supports.size());
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    local_height[s] = planes[supports[s]].height - local_origin.z();
+  }
+  // The tall thing's top standing on support s that q is under (no higher than the top), or -1.
+  const auto underTallTop = [&](std::size_t s, const Eigen::Vector3f& q) {
+    for (std::size_t t = 0; t < s; ++t) {
+      if (tall_top_over[t] == static_cast<int>(s) && q.z() <= local_height[t] + margin &&
+          areas[t].contains(q.x(), q.y())) {
+        return static_cast<int>(t);
+      }
+    }
+    return -1;
+  };
 
-  // Objects are joined where their points touch, on cells of r_z / 4 (5 mm: two Kinect samples
-  // at 1.5 m, so objects a centimetre apart stay apart) or twice the spacing of the plane's own
-  // samples where the cloud is sparser (farther away, a LiDAR), so that an object is not
-  // shattered into its samples.
-  std::vector<double> local_height(supports.size()), cell(supports.size());
+  // Points touch within a distance that follows the data. The finest is a cell of r_z / 4
+  // (5 mm: two Kinect samples at 1.5 m, so objects a centimetre apart stay apart). Where the
+  // plane's own samples are sparser (farther away, a LiDAR), cells are twice their spacing, so
+  // that an object is not shattered into its samples. And with a known viewpoint, cells are at
+  // least twice the sensor's range noise at the point: neighbouring samples of one surface lie
+  // about √2 σ apart along the ray (26 mm at 4 m for a Kinect), and a finer grid would cut a
+  // far chair into its samples. Cells come in levels of the plane's finest cell · 2^level;
+  // points of one level touch on its grid, and a coarser point reaches the finer points in its
+  // cell's neighbours.
+  const double finest_cell = params.r_z / 4;
+  std::vector<double> sample_cell(supports.size());
   for (std::size_t s = 0; s < supports.size(); ++s) {
     const HorizontalPlane& plane = planes[supports[s]];
-    local_height[s] = plane.height - local_origin.z();
     const double spacing =
         plane.num_points > 0 ? std::sqrt(plane.area / static_cast<double>(plane.num_points)) : 0.0;
-    cell[s] = std::max(params.r_z / 4, 2 * spacing);
+    sample_cell[s] = std::max(finest_cell, 2 * spacing);
   }
-  // Each object point's cell, then the distinct cells in key order, where the neighbours are
-  // found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many insertions).
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, point)
+  const RangeNoise noise = object_params.noise.value_or(RangeNoise::depthCamera());
+  std::optional<Eigen::Vector3f> eye;
+  if (viewpoint) eye = viewpoint->cast<float>();
+  // The level whose cells are at least `cell` on support s's grid (the nearest power of two).
+  const auto levelOf = [&](std::size_t s, double cell) {
+    if (!(cell > sample_cell[s])) return std::uint8_t{0};
+    const long level = std::lround(std::log2(cell / sample_cell[s]));
+    return static_cast<std::uint8_t>(std::clamp(level, 0L, static_cast<long>(kLevels - 1)));
+  };
+
+  // The object points: each with its support, its level, and whether it seeds objects.
   // Points over a plane's area seed its objects; points beside it at object height (the part
   // of a box that overhangs the edge) join an object only through the cells they touch.
-  std::vector<std::uint8_t> seeds(points.size(), 0);
+  struct ObjectPoint {
+    std::uint32_t index;
+    std::uint8_t support;
+    std::uint8_t level;
+    bool seed;
+    std::int16_t under_top;  // the tall top it rises under past max_height, or -1
+    float noise;             // the sensor's range noise σ at the point (0 without a viewpoint)
+  };
+  std::vector<ObjectPoint> candidates;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (point_labels[i] >= 0 && !raised[point_labels[i]]) continue;
     const Eigen::Vector3f q = points[i];
     if (!q.allFinite()) continue;
     int beside = -1;  // the highest plane the point is beside, at object height
-    for (std::size_t s = 0; s < supports.size(); ++s) {
+    int over = -1;    // the plane whose area it stands over
+    int under_top = -1;
+    bool on_plane = false;  // within the noise of a plane over whose area it lies
+    // Above a plane by more than its noise: half a vertical cell, or three standard deviations
+    // of the sensor's range noise at the point, seen vertically (a far floor's own samples
+    // scatter farther above it than r_z / 2).
+    double noise_margin = margin, sigma = 0.0;
+    if (eye) {
+      const Eigen::Vector3f ray = q - *eye;
+      const double range = ray.norm();
+      sigma = noise.at(range);
+      if (range > 0) noise_margin = std::max(margin, 3 * sigma * std::fabs(ray.z()) / range);
+    }
+    // A raised plane's own points (within its noise: higher ones stand on it) stand, whole, on
+    // the plane it stands on.
+    const int own = point_labels[i] >= 0 ? support_of_plane[point_labels[i]] : -1;
+    if (own >= 0 && stands_on_support[own] >= 0 && q.z() - local_height[own] <= noise_margin) {
+      over = stands_on_support[own];
+      if (tall_top_over[own] >= 0) under_top = own;
+    }
+    for (std::size_t s = 0; s < supports.size() && over < 0; ++s) {
       if (!carrying[s]) continue;
       const double above = q.z() - local_height[s];
-      if (above <= margin) continue;                // below this plane: try the lower ones
-      if (above > object_params.max_height) break;  // too high above every lower plane too
-      if (areas[s].contains(q.x(), q.y())) {
-        beside = -1;
-        std::uint64_t key;
-        if (cellKey(q, cell[s], static_cast<int>(s), key)) {
-          keyed.emplace_back(key, static_cast<std::uint32_t>(i));
-          seeds[i] = 1;
+      if (above <= noise_margin) {  // below this plane: try the lower ones
+        on_plane = on_plane || (point_labels[i] != supports[s] && above >= -noise_margin &&
+                                areas[s].contains(q.x(), q.y()));
+        continue;
+      }
+      if (above > object_params.max_height) {
+        // Too high above every lower plane too, unless under a tall thing's top there (and
+        // not the foot of something on a plane in between: on_plane).
+        for (std::size_t lower = s; lower < supports.size() && over < 0 && !on_plane; ++lower) {
+          if (q.z() - local_height[lower] > max_top_height) break;
+          under_top = underTallTop(lower, q);
+          if (under_top >= 0) over = static_cast<int>(lower);
         }
+        break;
+      }
+      if (areas[s].contains(q.x(), q.y())) {
+        over = static_cast<int>(s);
         break;
       }
       // Beside this plane (an overhang reaches kOverhang past its edge at most): a lower plane
       // may still carry it.
       if (beside < 0 && areas[s].near(q.x(), q.y(), kOverhang)) beside = static_cast<int>(s);
     }
-    std::uint64_t key;
-    if (beside >= 0 && cellKey(q, cell[beside], beside, key)) {
-      keyed.emplace_back(key, static_cast<std::uint32_t>(i));
-    }
-  }
-  sortByKey(keyed);
-  std::vector<std::uint64_t> cell_keys;
-  std::vector<std::uint32_t> point_cell(points.size(), std::numeric_limits<std::uint32_t>::max());
-  for (const auto& entry : keyed) {
-    if (cell_keys.empty() || cell_keys.back() != entry.first) cell_keys.push_back(entry.first);
-    point_cell[entry.second] = static_cast<std::uint32_t>(cell_keys.size() - 1);
+    const int s = over >= 0 ? over : beside;
+    if (s < 0) continue;
+    candidates.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s),
+                          levelOf(static_cast<std::size_t>(s), 2 * sigma), over >= 0,
+                          static_cast<std::int16_t>(under_top), static_cast<float>(sigma)});
   }
 
-  // Cells that touch (26-neighbourhood) on the same plane are one object. Each pair is looked at
-  // once, from the cell with the smaller key: for each of the 13 offsets to a larger key, the
-  // neighbours' keys rise with the cells', so one forward sweep per offset finds them all.
-  UnionFind components(cell_keys.size());
-  for (int dx = 0; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;  // the other half, or self
-        std::size_t other = 0;
-        for (std::uint32_t c = 0; c < cell_keys.size(); ++c) {
-          const std::uint64_t wanted = neighbourKey(cell_keys[c], dx, dy, dz);
-          while (other < cell_keys.size() && cell_keys[other] < wanted) ++other;
-          if (other == cell_keys.size()) break;
-          if (cell_keys[other] == wanted) components.join(c, static_cast<std::uint32_t>(other));
+  // Cells that touch (26-neighbourhood) on the same plane are one object, level by level. At
+  // each level the cells of its points and of the finer points are sorted by key, where the
+  // neighbours are found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many
+  // insertions). A cell holding a point of this level joins its points and every point of the
+  // cells around it; a cell of finer points alone joins nothing here (they touched at theirs).
+  UnionFind components(candidates.size());
+  std::uint8_t top_level = 0;
+  for (const ObjectPoint& c : candidates) top_level = std::max(top_level, c.level);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, candidate)
+  for (int level = 0; level <= top_level; ++level) {
+    keyed.clear();
+    bool any_at_level = false;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      if (candidates[k].level > level) continue;
+      any_at_level = any_at_level || candidates[k].level == level;
+      std::uint64_t key;
+      const double cell = sample_cell[candidates[k].support] * static_cast<double>(1 << level);
+      if (cellKey(points[candidates[k].index], cell, candidates[k].support, key)) {
+        keyed.emplace_back(key, static_cast<std::uint32_t>(k));
+      }
+    }
+    if (!any_at_level) continue;
+    sortByKey(keyed);
+    // The cells in key order: their first entry, and whether a point of this level is there.
+    std::vector<std::uint64_t> cell_keys;
+    std::vector<std::uint32_t> first;
+    std::vector<std::uint8_t> active;
+    for (std::uint32_t e = 0; e < keyed.size(); ++e) {
+      if (cell_keys.empty() || cell_keys.back() != keyed[e].first) {
+        cell_keys.push_back(keyed[e].first);
+        first.push_back(e);
+        active.push_back(0);
+      }
+      active.back() |= candidates[keyed[e].second].level == level;
+    }
+    first.push_back(static_cast<std::uint32_t>(keyed.size()));
+    // All entries of cell c joined to `to`.
+    const auto joinCell = [&](std::uint32_t c, std::uint32_t to) {
+      for (std::uint32_t e = first[c]; e < first[c + 1]; ++e) components.join(keyed[e].second, to);
+    };
+    for (std::uint32_t c = 0; c < cell_keys.size(); ++c) {
+      if (active[c]) joinCell(c, keyed[first[c]].second);
+    }
+    // Each pair once, from the cell with the smaller key: for each of the 13 offsets to a
+    // larger key, the neighbours' keys rise with the cells', so one forward sweep finds them.
+    for (int dx = 0; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;  // the other half, or self
+          std::size_t other = 0;
+          for (std::uint32_t c = 0; c < cell_keys.size(); ++c) {
+            const std::uint64_t wanted = neighbourKey(cell_keys[c], dx, dy, dz);
+            while (other < cell_keys.size() && cell_keys[other] < wanted) ++other;
+            if (other == cell_keys.size()) break;
+            if (cell_keys[other] != wanted || !(active[c] || active[other])) continue;
+            const auto o = static_cast<std::uint32_t>(other);
+            if (active[c] && active[o]) {
+              components.join(keyed[first[c]].second, keyed[first[o]].second);
+            } else if (active[c]) {
+              joinCell(o, keyed[first[c]].second);
+            } else {
+              joinCell(c, keyed[first[o]].second);
+            }
+          }
         }
       }
     }
   }
-  // Points per component, then objects in the order of their first point.
-  std::vector<std::size_t> component_points(cell_keys.size(), 0);
-  std::vector<std::uint8_t> component_seeded(cell_keys.size(), 0);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (point_cell[i] != std::numeric_limits<std::uint32_t>::max()) {
-      const std::uint32_t root = components.find(point_cell[i]);
-      ++component_points[root];
-      component_seeded[root] |= seeds[i];
+
+  // What rises past max_height under a tall thing's top is that thing's (a table's leg whose
+  // top the table's edge hides), whether or not the points between are seen.
+  std::vector<std::int64_t> top_candidate(supports.size(), -1);
+  for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+    const std::int32_t label = point_labels[candidates[k].index];
+    if (label < 0 || support_of_plane[label] < 0) continue;
+    const int t = support_of_plane[label];  // a point of a tall top, where it stands as one
+    if (tall_top_over[t] == candidates[k].support) top_candidate[t] = k;
+  }
+  for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+    const int t = candidates[k].under_top;
+    if (t >= 0 && top_candidate[t] >= 0) {
+      components.join(k, static_cast<std::uint32_t>(top_candidate[t]));
     }
   }
-  std::vector<std::int32_t> object_of_component(cell_keys.size(), -1);
-  std::vector<int> object_plane;  // the plane index each object stands on
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (point_cell[i] == std::numeric_limits<std::uint32_t>::max()) continue;
-    const std::uint32_t root = components.find(point_cell[i]);
-    if (component_points[root] < object_params.min_points || !component_seeded[root]) continue;
+
+  // Per component: points, whether seeded, its top above its plane, whether it holds a tall
+  // thing's top, its coarsest level.
+  struct Component {
+    std::size_t points = 0;
+    bool seeded = false;
+    bool tall_top = false;
+    double top = -std::numeric_limits<double>::infinity();
+    double bottom = std::numeric_limits<double>::infinity();
+    double noise = 0.0;      // sum of σ over its points
+    bool under_top = false;  // has points joined to a tall top across a gap
+  };
+  std::vector<Component> component(candidates.size());
+  for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+    const ObjectPoint& c = candidates[k];
+    Component& into = component[components.find(k)];
+    ++into.points;
+    into.seeded = into.seeded || c.seed;
+    const std::int32_t label = point_labels[c.index];
+    into.tall_top = into.tall_top || (label >= 0 && support_of_plane[label] >= 0 &&
+                                      tall_top_over[support_of_plane[label]] == c.support);
+    const double above = points[c.index].z() - local_height[c.support];
+    into.top = std::max(into.top, above);
+    into.bottom = std::min(into.bottom, above);
+    into.noise += c.noise;
+    into.under_top = into.under_top || c.under_top >= 0;
+  }
+  // Objects in the order of their first point. What rises to max_height with no top of its
+  // own was cut there: the foot of a wall, a partition, a pillar, not a thing on the plane.
+  const double structure_height = object_params.max_height - params.r_z;
+  std::vector<std::int32_t> object_of_component(candidates.size(), -1);
+  std::vector<int> object_plane;     // the plane index each object stands on
+  std::vector<double> object_patch;  // the crease split's patch for each
+  std::vector<std::uint8_t> joined_across_gap;
+  for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+    const std::uint32_t root = components.find(k);
+    const Component& c = component[root];
+    // And a tall top whose thing is not seen reaching down to the plane (a shelf board on a
+    // wall, a table whose legs are hidden) is no thing standing there either.
+    if (c.points < object_params.min_points || !c.seeded ||
+        (c.top >= structure_height && !c.tall_top) ||
+        (c.tall_top && c.bottom > object_params.max_height)) {
+      continue;
+    }
     if (object_of_component[root] < 0) {
       object_of_component[root] = static_cast<std::int32_t>(object_plane.size());
-      object_plane.push_back(supports[cell_keys[root] & 0xff]);
+      object_plane.push_back(supports[candidates[k].support]);
+      // Patches of r_z / 2 (1 cm: ~30 Kinect samples at 1 m), or as large as twice the
+      // sensor's mean noise over the object (to the nearest power of two), so that a far
+      // object's patches still give normals. Where the cloud is sparser (a LiDAR) they hold
+      // too few points for a normal and split nothing.
+      const double noise_cell = 2 * c.noise / static_cast<double>(c.points);
+      const double crease_patch = params.r_z / 2;
+      const long level =
+          noise_cell > crease_patch ? std::lround(std::log2(noise_cell / crease_patch)) : 0L;
+      object_patch.push_back(crease_patch * static_cast<double>(1L << std::min(level, 6L)));
+      joined_across_gap.push_back(c.under_top ? 1 : 0);
     }
-    result.point_objects[i] = object_of_component[root];
+    result.point_objects[candidates[k].index] = object_of_component[root];
   }
+  // A taller thing's side rising beside a lower one's top joins the taller thing before both
+  // come apart at the crease between them, so that the side is seen whole.
+  rejoinRisingBesideTops(points, planes, raised, local_origin, margin, result.point_objects,
+                         object_plane, object_patch, joined_across_gap);
   // Objects that touch come apart at the concave creases between them, which only a known
   // viewpoint tells from convex edges (a fold seen from the other side bends the other way).
   if (viewpoint && !object_plane.empty()) {
     CreaseParams crease;
-    // Patches of r_z / 2 (1 cm: ~30 Kinect samples at 1 m). Where the cloud is sparser (far
-    // away, a LiDAR) they hold too few points for a normal and split nothing.
     crease.patch = params.r_z / 2;
+    crease.object_patch = std::move(object_patch);
+    crease.joined_across_gap = std::move(joined_across_gap);
     // A part split off must be a real face or more (~5 × 5 cm at 1 m), not a crease's sliver.
     crease.min_part_points = 20 * object_params.min_points;
     crease.min_points = object_params.min_points;
@@ -419,8 +667,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     for (int& p : parent) p = object_plane[p];
     object_plane = std::move(parent);
   }
-  rejoinRisingBesideTops(points, planes, raised, local_origin, margin, result.point_objects,
-                         object_plane);
+  dropSmallObjects(object_params.min_points, result.point_objects, object_plane);
   result.objects.resize(object_plane.size());
   std::vector<std::vector<Eigen::Vector2d>> footprint_points(object_plane.size());
   std::vector<double> top(object_plane.size(), -std::numeric_limits<double>::infinity());

@@ -170,6 +170,15 @@ std::uint64_t neighbourKey(std::uint64_t key, int dx, int dy, int dz) {
   return key + step;
 }
 
+// The key of the cell `level` levels coarser (each cell 2^level times as large) that holds
+// the cell of `key`: each coordinate halved `level` times. Its bias (2^19 for x and y, 2^15 for
+// z) is halved too, the same for every cell, so neighbours stay one step apart.
+std::uint64_t coarser(std::uint64_t key, int level) {
+  if (level == 0) return key;
+  const std::uint64_t x = key >> 44, y = (key >> 24) & 0xfffff, z = (key >> 8) & 0xffff;
+  return ((x >> level) << 44) | ((y >> level) << 24) | ((z >> level) << 8) | (key & 0xff);
+}
+
 // The smallest-area rectangle around a convex polygon has a side along one of its edges.
 void smallestUprightBox(const std::vector<Eigen::Vector2d>& hull, Eigen::Vector2d& centre,
                         double& yaw, Eigen::Vector2d& size) {
@@ -504,29 +513,47 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
                           static_cast<std::int16_t>(under_top), static_cast<float>(sigma)});
   }
 
-  // Cells that touch (26-neighbourhood) on the same plane are one object, level by level. At
-  // each level the cells of its points and of the finer points are sorted by key, where the
+  // Cells that touch (26-neighbourhood) on the same plane are one object, level by level.
+  // First each point's cell on its plane's finest grid: every point of such a cell ends in one
+  // object (at its coarsest point's level the cell is joined whole), so the levels work on
+  // these cells, far fewer than the points, and a coarser cell's key is the finer one's with
+  // each coordinate halved per level. At each level the cells are sorted by key, where the
   // neighbours are found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many
   // insertions). A cell holding a point of this level joins its points and every point of the
   // cells around it; a cell of finer points alone joins nothing here (they touched at theirs).
-  UnionFind components(candidates.size());
-  std::uint8_t top_level = 0;
-  for (const ObjectPoint& c : candidates) top_level = std::max(top_level, c.level);
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, candidate)
-  for (int level = 0; level <= top_level; ++level) {
-    keyed.clear();
-    bool any_at_level = false;
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      if (candidates[k].level > level) continue;
-      any_at_level = any_at_level || candidates[k].level == level;
-      std::uint64_t key;
-      const double cell = sample_cell[candidates[k].support] * static_cast<double>(1 << level);
-      if (cellKey(points[candidates[k].index], cell, candidates[k].support, key)) {
-        keyed.emplace_back(key, static_cast<std::uint32_t>(k));
-      }
+  constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, candidate or cell)
+  keyed.reserve(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    std::uint64_t key;
+    const ObjectPoint& c = candidates[k];
+    if (cellKey(points[c.index], sample_cell[c.support], c.support, key)) {
+      keyed.emplace_back(key, static_cast<std::uint32_t>(k));
     }
-    if (!any_at_level) continue;
-    sortByKey(keyed);
+  }
+  sortByKey(keyed);
+  std::vector<std::uint64_t> fine_keys;
+  std::vector<std::uint8_t> levels_in;  // per fine cell, bit l set when it holds a point of level l
+  std::vector<std::uint32_t> cell_of(candidates.size(), kNoCell);
+  for (const auto& [key, k] : keyed) {
+    if (fine_keys.empty() || fine_keys.back() != key) {
+      fine_keys.push_back(key);
+      levels_in.push_back(0);
+    }
+    levels_in.back() |= static_cast<std::uint8_t>(1u << candidates[k].level);
+    cell_of[k] = static_cast<std::uint32_t>(fine_keys.size() - 1);
+  }
+  UnionFind components(fine_keys.size());
+  std::uint8_t all_levels = 0;
+  for (std::uint8_t levels : levels_in) all_levels |= levels;
+  for (int level = 0; level < kLevels; ++level) {
+    const unsigned bit = 1u << level;
+    if (!(all_levels & bit)) continue;
+    keyed.clear();
+    for (std::uint32_t c = 0; c < fine_keys.size(); ++c) {
+      if (levels_in[c] & ((bit << 1) - 1)) keyed.emplace_back(coarser(fine_keys[c], level), c);
+    }
+    if (level > 0) sortByKey(keyed);
     // The cells in key order: their first entry, and whether a point of this level is there.
     std::vector<std::uint64_t> cell_keys;
     std::vector<std::uint32_t> first;
@@ -537,10 +564,10 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         first.push_back(e);
         active.push_back(0);
       }
-      active.back() |= candidates[keyed[e].second].level == level;
+      active.back() |= (levels_in[keyed[e].second] & bit) ? 1 : 0;
     }
     first.push_back(static_cast<std::uint32_t>(keyed.size()));
-    // All entries of cell c joined to `to`.
+    // All fine cells of cell c joined to `to`.
     const auto joinCell = [&](std::uint32_t c, std::uint32_t to) {
       for (std::uint32_t e = first[c]; e < first[c + 1]; ++e) components.join(keyed[e].second, to);
     };
@@ -575,17 +602,17 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
 
   // What rises past max_height under a tall thing's top is that thing's (a table's leg whose
   // top the table's edge hides), whether or not the points between are seen.
-  std::vector<std::int64_t> top_candidate(supports.size(), -1);
+  std::vector<std::uint32_t> top_cell(supports.size(), kNoCell);
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
     const std::int32_t label = point_labels[candidates[k].index];
-    if (label < 0 || support_of_plane[label] < 0) continue;
+    if (cell_of[k] == kNoCell || label < 0 || support_of_plane[label] < 0) continue;
     const int t = support_of_plane[label];  // a point of a tall top, where it stands as one
-    if (tall_top_over[t] == candidates[k].support) top_candidate[t] = k;
+    if (tall_top_over[t] == candidates[k].support) top_cell[t] = cell_of[k];
   }
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
     const int t = candidates[k].under_top;
-    if (t >= 0 && top_candidate[t] >= 0) {
-      components.join(k, static_cast<std::uint32_t>(top_candidate[t]));
+    if (t >= 0 && cell_of[k] != kNoCell && top_cell[t] != kNoCell) {
+      components.join(cell_of[k], top_cell[t]);
     }
   }
 
@@ -600,10 +627,11 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     double noise = 0.0;      // sum of σ over its points
     bool under_top = false;  // has points joined to a tall top across a gap
   };
-  std::vector<Component> component(candidates.size());
+  std::vector<Component> component(fine_keys.size());
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
     const ObjectPoint& c = candidates[k];
-    Component& into = component[components.find(k)];
+    if (cell_of[k] == kNoCell) continue;
+    Component& into = component[components.find(cell_of[k])];
     ++into.points;
     into.seeded = into.seeded || c.seed;
     const std::int32_t label = point_labels[c.index];
@@ -618,12 +646,13 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // Objects in the order of their first point. What rises to max_height with no top of its
   // own was cut there: the foot of a wall, a partition, a pillar, not a thing on the plane.
   const double structure_height = object_params.max_height - params.r_z;
-  std::vector<std::int32_t> object_of_component(candidates.size(), -1);
+  std::vector<std::int32_t> object_of_component(fine_keys.size(), -1);
   std::vector<int> object_plane;     // the plane index each object stands on
   std::vector<double> object_patch;  // the crease split's patch for each
   std::vector<std::uint8_t> joined_across_gap;
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
-    const std::uint32_t root = components.find(k);
+    if (cell_of[k] == kNoCell) continue;
+    const std::uint32_t root = components.find(cell_of[k]);
     const Component& c = component[root];
     // And a tall top whose thing is not seen reaching down to the plane (a shelf board on a
     // wall, a table whose legs are hidden) is no thing standing there either.

@@ -136,6 +136,10 @@ void validate(const LevellingParams& params) {
     fail("levelling max_floor_depth must be in (0, 1e4] m (got " + text(params.max_floor_depth) +
          ")");
   }
+  if (!(params.min_fallback_area >= 0 && params.min_fallback_area <= 1e6)) {
+    fail("levelling min_fallback_area must be in [0, 1e6] m² (got " +
+         text(params.min_fallback_area) + ")");
+  }
   if (!(params.min_support_area >= 0 && params.min_support_area <= 1e6)) {
     fail("levelling min_support_area must be in [0, 1e6] m² (got " + text(params.min_support_area) +
          ")");
@@ -443,8 +447,9 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   using Fit = detail::LevelFit::Result;
   std::vector<Fit> candidates;
   bool head_on_only = false;
-  std::optional<Fit> too_deep;  // the best candidate that put the floor out of reach
-  std::optional<Fit> sloped;    // the best finalist not level at its cells' own scale
+  std::optional<Fit> too_deep;       // the best candidate that put the floor out of reach
+  std::optional<Fit> sloped;         // the best finalist not level at its cells' own scale
+  std::optional<Fit> weak_fallback;  // a finalist too small to outweigh those turned down
   // A camera's floor lies at most max_floor_depth below it: an up under which the lowest level
   // surface lies deeper is what a camera looking straight down a staircase's risers, or at a
   // far wall, would take for levels (a level camera facing a flight of stairs sees risers
@@ -498,7 +503,22 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
       if (!sloped || c.support_area > sloped->support_area) sloped = c;
       continue;
     }
+    if (k > 0 && c.support_area < params_.min_fallback_area) {
+      if (!weak_fallback || c.support_area > weak_fallback->support_area) weak_fallback = c;
+      continue;
+    }
     chosen = c;
+  }
+  if (!chosen && weak_fallback) {
+    throw LevellingError(
+        "cannot find up from the scene: the level reading that holds (camera pitched " +
+        formatted("%.0f°) rests on %.2f m² of level area, ", pitchDeg(weak_fallback->up),
+                  weak_fallback->support_area) +
+        formatted("less than the %.2f m² (LevellingParams::min_fallback_area) ",
+                  params_.min_fallback_area) +
+        "that would outweigh the better-supported readings turned down as a slope or as too "
+        "deep (a staircase seen from below or head-on); " +
+        options);
   }
   if (!chosen && sloped) {
     throw LevellingError(

@@ -30,8 +30,8 @@
 // for levels. So does a reading whose level cells are not level at their own scale (most of
 // the clearly flat ones tilting from it): at 10 cm cells a flight of stairs has a slope whose
 // cells' normals agree, while its treads' own points tilt 20-40° from it. And so does a
-// reading of less than LevellingParams::min_fallback_area left after a better-supported one was
-// turned down for those reasons: too little to choose between them.
+// reading of less than LevellingParams::min_fallback_area left after a better-scored one was
+// turned down: too little to choose between them.
 #pragma once
 
 #include <cstdint>
@@ -84,8 +84,9 @@ struct LevellingParams {
   // facing a staircase sees risers receding over metres, which a camera looking straight down
   // would take for levels). Raise it for a camera on a mast or a drone. Cameras only.
   double max_floor_depth = 4.5;
-  // A reading taken after a better-supported one was turned down (its slope not level at the
-  // cells' own scale, or its floor out of reach) must rest on at least this much level area
+  // A reading taken after a better-scored one was turned down (its slope not level at the
+  // cells' own scale, its floor out of reach, or its refit unsupported) must rest on at least
+  // this much level area
   // (m²: a small table's top); less is too little to outweigh what was turned down, and the
   // scene is ambiguous (a staircase seen from below or head-on: a sliver of risers or tread
   // edges at any pitch).

@@ -212,13 +212,40 @@ void smallestUprightBox(const std::vector<Eigen::Vector2d>& hull, Eigen::Vector2
   if (yaw >= M_PI) yaw -= M_PI;
 }
 
+// Each object's points moved to object target[o] (-1: to none), and the objects left
+// numbered afresh in the order of their first point. Returns, for each new object, the old
+// object it is.
+std::vector<std::int32_t> renumberObjects(const std::vector<std::int32_t>& target,
+                                          std::vector<std::int32_t>& object_of_point) {
+  std::vector<std::int32_t> renumbered(target.size(), -1), origin;
+  for (std::int32_t& o : object_of_point) {
+    if (o < 0) continue;
+    const std::int32_t to = target[o];
+    if (to >= 0 && renumbered[to] < 0) {
+      renumbered[to] = static_cast<std::int32_t>(origin.size());
+      origin.push_back(to);
+    }
+    o = to >= 0 ? renumbered[to] : -1;
+  }
+  return origin;
+}
+
+// values[origin[k]] for each k: a per-object table after renumberObjects.
+template <class T>
+std::vector<T> picked(const std::vector<T>& values, const std::vector<std::int32_t>& origin) {
+  std::vector<T> out;
+  out.reserve(origin.size());
+  for (std::int32_t o : origin) out.push_back(values[o]);
+  return out;
+}
+
 // A taller object pushed against a lower one rises beside the lower one's top, and what of it
 // stands over that top's box (the strip along the edge they share) was given to the top. Such
 // a part, on a raised plane, whose xy box touches that of an object on a lower plane rising
 // higher than the raised plane, is that object's (the highest such): it is joined to it, and
 // the objects are numbered afresh (in the order of their first point), each with the larger
-// crease patch of the two and joined across a gap when either was. A cup on a book is not joined to
-// the book's sides, which rise no higher than the book.
+// crease patch of the two and joined across a gap when either was. A cup on a book is not
+// joined to the book's sides, which rise no higher than the book.
 void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
                             const std::vector<std::uint8_t>& raised,
                             const Eigen::Vector3d& local_origin, double margin,
@@ -256,27 +283,16 @@ void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<Horiz
     }
   }
   if (!joined) return;
-  std::vector<std::int32_t> renumbered(n, -1);
-  std::vector<int> plane_of;
-  std::vector<double> patch_of;
-  std::vector<std::uint8_t> gap_of;
-  for (std::int32_t& o : object_of_point) {
-    if (o < 0) continue;
-    const std::int32_t target = into[o];
-    if (renumbered[target] < 0) {
-      renumbered[target] = static_cast<std::int32_t>(plane_of.size());
-      plane_of.push_back(object_plane[target]);
-      patch_of.push_back(object_patch[target]);
-      gap_of.push_back(joined_across_gap[target]);
-    }
-    const std::int32_t into_object = renumbered[target];
-    patch_of[into_object] = std::max(patch_of[into_object], object_patch[o]);
-    gap_of[into_object] = gap_of[into_object] | joined_across_gap[o];
-    o = into_object;
+  std::vector<double> patch = object_patch;
+  std::vector<std::uint8_t> gap = joined_across_gap;
+  for (std::size_t o = 0; o < n; ++o) {
+    patch[into[o]] = std::max(patch[into[o]], object_patch[o]);
+    gap[into[o]] |= joined_across_gap[o];
   }
-  object_plane = std::move(plane_of);
-  object_patch = std::move(patch_of);
-  joined_across_gap = std::move(gap_of);
+  const std::vector<std::int32_t> origin = renumberObjects(into, object_of_point);
+  object_plane = picked(object_plane, origin);
+  object_patch = picked(patch, origin);
+  joined_across_gap = picked(gap, origin);
 }
 
 // Whether a plane (its centroid `centre`, relative to the local origin) stands over `area`:
@@ -299,21 +315,11 @@ void dropSmallObjects(std::size_t least, std::vector<std::int32_t>& object_of_po
   for (std::int32_t o : object_of_point) {
     if (o >= 0) ++count[o];
   }
-  std::vector<std::int32_t> renumbered(object_plane.size(), -1);
-  std::vector<int> plane_of;
-  for (std::int32_t& o : object_of_point) {
-    if (o < 0) continue;
-    if (count[o] < least) {
-      o = -1;
-      continue;
-    }
-    if (renumbered[o] < 0) {
-      renumbered[o] = static_cast<std::int32_t>(plane_of.size());
-      plane_of.push_back(object_plane[o]);
-    }
-    o = renumbered[o];
+  std::vector<std::int32_t> target(object_plane.size());
+  for (std::size_t o = 0; o < target.size(); ++o) {
+    target[o] = count[o] < least ? -1 : static_cast<std::int32_t>(o);
   }
-  object_plane = std::move(plane_of);
+  object_plane = picked(object_plane, renumberObjects(target, object_of_point));
 }
 
 }  // namespace
@@ -602,12 +608,16 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
 
   // What rises past max_height under a tall thing's top is that thing's (a table's leg whose
   // top the table's edge hides), whether or not the points between are seen.
+  // The tall top candidate k is a point of, where that top stands as a thing's top, or -1.
+  const auto tallTopOf = [&](std::uint32_t k) {
+    const std::int32_t label = point_labels[candidates[k].index];
+    const int t = label >= 0 ? support_of_plane[label] : -1;
+    return t >= 0 && tall_top_over[t] == candidates[k].support ? t : -1;
+  };
   std::vector<std::uint32_t> top_cell(supports.size(), kNoCell);
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
-    const std::int32_t label = point_labels[candidates[k].index];
-    if (cell_of[k] == kNoCell || label < 0 || support_of_plane[label] < 0) continue;
-    const int t = support_of_plane[label];  // a point of a tall top, where it stands as one
-    if (tall_top_over[t] == candidates[k].support) top_cell[t] = cell_of[k];
+    const int t = tallTopOf(k);
+    if (t >= 0 && cell_of[k] != kNoCell) top_cell[t] = cell_of[k];
   }
   for (std::uint32_t k = 0; k < candidates.size(); ++k) {
     const int t = candidates[k].under_top;
@@ -616,8 +626,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     }
   }
 
-  // Per component: points, whether seeded, its top above its plane, whether it holds a tall
-  // thing's top, its coarsest level.
+  // Per component: points, whether seeded, whether it holds a tall thing's top, its top and
+  // bottom above its plane, the sensor's noise over it, whether it was joined across a gap.
   struct Component {
     std::size_t points = 0;
     bool seeded = false;
@@ -634,9 +644,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     Component& into = component[components.find(cell_of[k])];
     ++into.points;
     into.seeded = into.seeded || c.seed;
-    const std::int32_t label = point_labels[c.index];
-    into.tall_top = into.tall_top || (label >= 0 && support_of_plane[label] >= 0 &&
-                                      tall_top_over[support_of_plane[label]] == c.support);
+    into.tall_top = into.tall_top || tallTopOf(k) >= 0;
     const double above = points[c.index].z() - local_height[c.support];
     into.top = std::max(into.top, above);
     into.bottom = std::min(into.bottom, above);

@@ -516,8 +516,8 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
                   weak_fallback->support_area) +
         formatted("less than the %.2f m² (LevellingParams::min_fallback_area) ",
                   params_.min_fallback_area) +
-        "that would outweigh the better-supported readings turned down as a slope or as too "
-        "deep (a staircase seen from below or head-on); " +
+        "that would outweigh the better-scored readings turned down before it (a staircase "
+        "seen from below or head-on); " +
         options);
   }
   if (!chosen && sloped) {

@@ -315,6 +315,43 @@ TEST(UpEstimation, RefinementCorrectsAGivenOrientationWithinItsBound) {
   EXPECT_LT(angleDeg(corrected.up_in_sensor, view.true_up), 0.5) << corrected.describe();
 }
 
+// One level surface tells a tilt only beyond what its extent and the sensor's noise at its
+// range allow (a surface L across whose ends are each σ(d) off shows atan(2σ / L)): a stair
+// tread 0.3 m deep, 2.9 m from a Kinect-class camera, cannot tell a 1.5° pitch error
+// (atan(2 · 13 mm / 0.3 m) ≈ 5°), a 3 m square floor there can (≈ 0.5°). On a real Kinect v2
+// staircase one tread moved the rig's vertical by 1.4–2.25°, differently in each frame.
+TEST(UpEstimation, RefinementOnOneSurfaceIsBoundedByWhatItCanTell) {
+  const synthetic::Camera camera = cameraAt(V(0, 0, 1.5), 0, 31 * kDegree, 0);
+  const V true_up = upInSensor(camera.pose);
+  const V pitch_axis = camera.pose.linear().transpose() * V::UnitY();
+  const V off = Eigen::AngleAxisd(1.5 * kDegree, pitch_axis) * true_up;
+  const Orientation given = Orientation::fromGravity(off.x(), off.y(), off.z());
+  const double range = std::hypot(1.5, 2.5);
+  const double sigma = RangeNoise::depthCamera().at(range);
+  UpEstimator estimator;
+  for (const double depth : {0.3, 3.0}) {
+    SCOPED_TRACE("a level surface " + std::to_string(depth) + " m deep");
+    synthetic::Scene scene;
+    scene.add<synthetic::Rectangle>(V(2.5, 0, 0), V(1, 0, 0), V(0, 1, 0), depth / 2,
+                                    depth < 1 ? 0.6 : 1.5, 0);
+    const View view = render(scene, camera);
+    const UpEstimate e = estimator.refine(PointsView::of(view.cloud), given);
+    const double expected_deg = std::atan(2 * sigma / depth) / kDegree;
+    EXPECT_GT(e.resolution_deg, 0.6 * expected_deg) << e.describe();
+    EXPECT_LT(e.resolution_deg, 1.5 * expected_deg) << e.describe();
+    if (depth < 1) {
+      // (Its quantized depth, 2.4 cm steps at 2.9 m, tilts it by most of a degree itself.)
+      EXPECT_FALSE(e.applied) << e.describe();
+      EXPECT_NE(e.note.find("can tell"), std::string::npos) << e.note;
+      EXPECT_TRUE(e.orientation.sensorToReference().isApprox(given.sensorToReference()));
+    } else {
+      EXPECT_TRUE(e.applied) << e.describe();
+      EXPECT_NEAR(e.correction_deg, 1.5, 0.3) << e.describe();
+      EXPECT_LT(angleDeg(e.up_in_sensor, true_up), 0.3) << e.describe();
+    }
+  }
+}
+
 TEST(UpEstimation, RefinementTurnsAboutTheSensorAndKeepsHeights) {
   // A full pose, its rotation 3° off: the sensor's position and the floor's height stay.
   const View view = demoRoomView(40, 0);

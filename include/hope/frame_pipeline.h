@@ -34,7 +34,8 @@ enum class SceneLevelling {
   // Up estimated from each frame's own level surfaces; the given orientation only says where
   // the sensor is (its viewpoint). Heights are relative to the sensor.
   kEstimate,
-  // The given orientation corrected by the scene, by at most LevellingParams::max_correction_deg.
+  // The given orientation corrected by the scene, by at most LevellingParams::max_correction_deg
+  // and only by more than its level surfaces can tell (UpEstimator::refine).
   kRefine,
 };
 

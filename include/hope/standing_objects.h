@@ -25,29 +25,9 @@
 #include "hope/aligned_points.h"
 #include "hope/params.h"
 #include "hope/plane.h"
+#include "hope/range_noise.h"
 
 namespace hope {
-
-// The standard deviation of a sensor's range reading at range d, metres:
-//   σ(d) = constant + per_metre · d + quadratic · (d − offset)².
-// Points of one surface lie about σ apart along the ray from neighbour to neighbour, so the
-// distance at which object points still touch grows with it (findStandingObjects).
-struct RangeNoise {
-  double constant = 0.0;
-  double per_metre = 0.0;
-  double quadratic = 0.0;
-  double offset = 0.0;
-  double at(double range) const {
-    return constant + per_metre * range + quadratic * (range - offset) * (range - offset);
-  }
-  // A structured-light or stereo depth camera (Kinect v1, RealSense D4xx class): the axial
-  // noise Nguyen, Izadi and Lovell measured on a Kinect (3DIMPVT 2012), 0.0012 + 0.0019 (d −
-  // 0.4)²: 1.9 mm at 1 m, 8 mm at 2 m, 26 mm at 4 m.
-  static RangeNoise depthCamera() { return {0.0012, 0.0, 0.0019, 0.4}; }
-  // A spinning LiDAR (Velodyne, Ouster class): about 1 cm, growing by 1 mm a metre (2 cm at
-  // 10 m, 5 cm at 40 m), from the makers' accuracy figures (±2–3 cm).
-  static RangeNoise lidar() { return {0.01, 0.001, 0.0, 0.0}; }
-};
 
 struct ObjectParams {
   // Points higher than this above a plane do not stand on it (a lamp above a table), metres.

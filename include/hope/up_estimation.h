@@ -36,6 +36,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -47,6 +48,7 @@
 #include "hope/params.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"
+#include "hope/range_noise.h"
 
 namespace hope {
 
@@ -91,6 +93,9 @@ struct LevellingParams {
   // scene is ambiguous (a staircase seen from below or head-on: a sliver of risers or tread
   // edges at any pitch).
   double min_fallback_area = 0.2;
+  // refine(): the sensor's range noise, which bounds the tilt a level surface can tell (see
+  // UpEstimator::refine). Unset: a depth camera's for the camera prior, a LiDAR's otherwise.
+  std::optional<RangeNoise> noise;
   UpPrior prior = UpPrior::kAuto;
 
   // The levelling that goes with an extraction: cells of 2·r_xy. Level surfaces are wide, and
@@ -120,10 +125,12 @@ struct UpEstimate {
   // The prior that was used, and for a camera its pitch (down positive) and roll, degrees.
   UpPrior prior = UpPrior::kAuto;
   double pitch_deg = 0, roll_deg = 0;
-  // refine() only: the angle between the given up and the scene's, whether the correction
-  // was applied, and why not when it was not.
+  // refine() only: the angle between the given up and the scene's, the tilt the level
+  // surfaces can tell in that direction (the smallest correction they support), whether the
+  // correction was applied, and why not when it was not.
   bool refinement = false;
   double correction_deg = 0;
+  double resolution_deg = 0;
   bool applied = true;
   std::string note;
   double time_ms = 0;
@@ -156,8 +163,13 @@ class UpEstimator {
   UpEstimate estimate(const PointsView& cloud);
 
   // The given orientation corrected so that the scene's level surfaces come out level, by at
-  // most params().max_correction_deg. Never throws for lack of evidence: the given orientation
-  // is then kept (applied = false, note says why).
+  // most params().max_correction_deg, and only by more than the surfaces can tell: a surface
+  // L across (in the direction of the correction) at range d, whose ends are each uncertain by
+  // the sensor's noise σ(d), would show a tilt of up to atan(2σ(d) / L) if it were level; the
+  // surfaces together tell 1 / sqrt(Σ 1 / that²). A correction within it is not evidence (a
+  // 0.28 m stair tread 2.5 m from a Kinect-class camera cannot tell 3.9° in depth; a 3 m floor
+  // at that range tells 0.4°), and the given orientation is kept. Never throws for lack of
+  // evidence: the given orientation is then kept (applied = false, note says why).
   UpEstimate refine(const PointsView& cloud, const Orientation& given);
 
  private:

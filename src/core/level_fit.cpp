@@ -64,6 +64,17 @@ struct LevelFit::Patch {
   }
 };
 
+// A patch large and wide enough for a normal of its own (kOwnNormalCells fit cells, spread over
+// half a cell or more both ways) whose normal lies more than kOutlierPatchDeg from `up`: flat,
+// but not level.
+bool LevelFit::notLevel(const Patch& patch, const Eigen::Vector3d& up) const {
+  if (patch.fit_cells < kOwnNormalCells) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> own(patch.fitScatter());
+  const bool wide = own.eigenvalues()(1) >= 0.25 * cell_ * cell_;
+  const double cosine = std::fabs(own.eigenvectors().col(0).dot(up));
+  return wide && std::acos(std::min(1.0, cosine)) > kOutlierPatchDeg * kDegree;
+}
+
 void LevelFit::reset(const VoxelGrid& grid, const std::vector<Eigen::Vector3f>& normals) {
   const std::size_t n = grid.numVoxels();
   cell_ = grid.rXY();
@@ -167,27 +178,28 @@ LevelFit::Result LevelFit::fit(const Eigen::Vector3d& start, double first_tolera
   // degrees) pass the tolerance and pull the pooled fit their way: a patch large and wide
   // enough for its own normal, whose normal is more than kOutlierPatchDeg from up, is left out
   // and up fitted again.
+  auto counts = [&](const Patch& patch) {
+    return patch.cells >= kMinPatchCells && patch.fit_cells >= kMinPatchCells;
+  };
   for (int pass = 0; pass < 2 && rounds == kRounds; ++pass) {
     Eigen::Matrix3d kept = Eigen::Matrix3d::Zero();
     int kept_cells = 0, dropped = 0;
     for (const Patch& patch : patches) {
-      if (patch.cells < kMinPatchCells || patch.fit_cells < kMinPatchCells) continue;
-      const Eigen::Matrix3d scatter = patch.fitScatter();
-      if (patch.fit_cells >= kOwnNormalCells) {
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> own(scatter);
-        // Wide enough in both directions for its normal to mean something.
-        const bool wide = own.eigenvalues()(1) >= 0.25 * cell_ * cell_;
-        const double cosine = std::fabs(own.eigenvectors().col(0).dot(up));
-        if (wide && std::acos(std::min(1.0, cosine)) > kOutlierPatchDeg * kDegree) {
-          ++dropped;
-          continue;
-        }
+      if (!counts(patch)) continue;
+      if (notLevel(patch, up)) {
+        ++dropped;
+        continue;
       }
-      kept += scatter;
+      kept += patch.fitScatter();
       kept_cells += patch.fit_cells;
     }
     if (dropped == 0 || kept_cells < 2 * kMinPatchCells) break;
     up = flattest(kept, up);
+  }
+  // What the final direction rests on, for the refinement's bound (up_estimation.h).
+  for (const Patch& patch : patches) {
+    if (!counts(patch) || (rounds == kRounds && notLevel(patch, up))) continue;
+    result.evidence.push_back({patch.sum / patch.cells, patch.scatter() / patch.cells});
   }
 
   // The support of the final direction: footprint of the patches on the level plane, the

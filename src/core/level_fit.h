@@ -26,6 +26,13 @@ class LevelFit {
     // The lowest level surface's height along up, in the grid's frame: with the sensor at the
     // origin, how far below it the floor would be.
     double lowest_height = 0;
+    // The level patches `up` rests on (none left out as flat but not level): each one's mean
+    // cell centroid and its cells' covariance about it, in the grid's frame.
+    struct Patch {
+      Eigen::Vector3d mean;
+      Eigen::Matrix3d covariance;
+    };
+    std::vector<Patch> evidence;
   };
 
   // The cells (centroids, normals, 26-neighbourhood) of `grid`, read once for every fit.
@@ -42,6 +49,7 @@ class LevelFit {
 
  private:
   struct Patch;
+  bool notLevel(const Patch& patch, const Eigen::Vector3d& up) const;
   std::vector<Eigen::Vector3d> centroid_;
   std::vector<Eigen::Vector3d> normal_;  // NaN for a cell without one
   std::vector<std::uint32_t> neighbour_begin_, neighbours_;

@@ -28,15 +28,7 @@ void validate(const ObjectParams& params) {
     msg << "object max_top_height = " << params.max_top_height << " is out of range (0, 100] m";
     throw std::invalid_argument(msg.str());
   }
-  if (params.noise) {
-    const RangeNoise& n = *params.noise;
-    for (double c : {n.constant, n.per_metre, n.quadratic, n.offset}) {
-      if (!(std::isfinite(c) && c >= 0 && c <= 100)) {
-        throw std::invalid_argument(
-            "object noise: each coefficient must be finite and in [0, 100]");
-      }
-    }
-  }
+  if (params.noise) validate(*params.noise, "object noise");
   if (params.min_points < 1 || params.min_points > 100000000) {
     throw std::invalid_argument("object min_points = " + std::to_string(params.min_points) +
                                 " is out of range [1, 1e8]");

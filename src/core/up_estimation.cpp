@@ -144,6 +144,7 @@ void validate(const LevellingParams& params) {
     fail("levelling min_support_area must be in [0, 1e6] m² (got " + text(params.min_support_area) +
          ")");
   }
+  if (params.noise) validate(*params.noise, "levelling noise");
 }
 
 std::string UpEstimate::describe() const {
@@ -155,7 +156,8 @@ std::string UpEstimate::describe() const {
   out << formatted(", level area %.2f m², normals within %.1f° RMS", support_area, angle_spread_deg)
       << ", " << level_surfaces << " level surface(s) at " << level_heights << " height(s)";
   if (refinement) {
-    out << formatted("; %.2f° from the given up", correction_deg)
+    out << formatted("; %.2f° from the given up (the surfaces tell %.2f°)", correction_deg,
+                     resolution_deg)
         << (applied ? ", corrected" : ", not corrected: " + note);
   }
   return out.str();
@@ -568,6 +570,31 @@ UpEstimate UpEstimator::estimate(const PointsView& cloud) {
   return e;
 }
 
+namespace {
+
+// The tilt, degrees, that fit's level patches can tell in the direction from its up to
+// `given_up`, with the sensor's range noise (see UpEstimator::refine()).
+double resolutionDeg(const detail::LevelFit::Result& fit, const Eigen::Vector3d& given_up,
+                     const RangeNoise& noise) {
+  // The direction the correction tilts in: across the level plane, towards the given up.
+  const Eigen::Vector3d& up = fit.up;
+  Eigen::Vector3d across = given_up - given_up.dot(up) * up;
+  if (across.norm() < 1e-9) across = up.unitOrthogonal();
+  across.normalize();
+  // A patch L across with its ends each σ off could fake a tilt of 2σ / L; with L the length of
+  // a uniform strip of the same variance, sqrt(12 var), 1 / tilt² = 3 var / σ². The patches'
+  // errors are independent: their 1 / tilt² add.
+  double information = 0;
+  for (const detail::LevelFit::Result::Patch& patch : fit.evidence) {
+    const double sigma = std::max(noise.at(patch.mean.norm()), 1e-6);
+    information += 3.0 * across.dot(patch.covariance * across) / (sigma * sigma);
+  }
+  if (information <= 0) return 90.0;
+  return std::atan(1.0 / std::sqrt(information)) / kDegree;
+}
+
+}  // namespace
+
 UpEstimate UpEstimator::refine(const PointsView& cloud, const Orientation& given) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Vector3d given_up = upInSensor(given.sensorToReference());
@@ -593,10 +620,18 @@ UpEstimate UpEstimator::refine(const PointsView& cloud, const Orientation& given
              "° of the given up";
   } else {
     e.correction_deg = std::acos(std::clamp(c.up.dot(given_up), -1.0, 1.0)) / kDegree;
+    e.resolution_deg =
+        resolutionDeg(c, given_up,
+                      params_.noise.value_or(prior_ == UpPrior::kCamera ? RangeNoise::depthCamera()
+                                                                        : RangeNoise::lidar()));
     if (e.correction_deg > params_.max_correction_deg) {
       e.note = "the level surfaces are " + formatted("%.2f", e.correction_deg) +
                "° from the given up, more than the bound of " +
                formatted("%.1f", params_.max_correction_deg) + "°";
+    } else if (e.correction_deg <= e.resolution_deg) {
+      e.note = "the level surfaces are " + formatted("%.2f", e.correction_deg) +
+               "° from the given up, within the " + formatted("%.2f", e.resolution_deg) +
+               "° that their extent and the sensor's noise at their range can tell";
     } else {
       e.orientation = levelledTo(given, c.up);
       e.up_in_sensor = c.up;

@@ -616,6 +616,7 @@ py::object levellingOf(const ExtractionResult& r) {
   }
   if (e.refinement) {
     d["correction_deg"] = e.correction_deg;
+    d["resolution_deg"] = e.resolution_deg;
     d["applied"] = e.applied;
     d["note"] = e.note;
   }

@@ -196,12 +196,18 @@ void lidarFigures() {
 // and 16 steps, with and without far walls, from each of staircaseViews(). A view is answered
 // right (within 2° of the truth), refused, or answered wrong: a wrong answer is the risers and
 // a far wall taken for levels, or the flight's slope, and a refusal is the honest answer there.
+// The refinement of a given orientation, over kSeeds renderings of each view (a static view's
+// frames): from the true orientation every degree it turns is error, and the ups it gives
+// should agree; from one kOffDeg off in pitch (a rig's vertical off by an IMU's error) it
+// should correct where the surfaces can tell that much, and say so where they cannot.
 // `verbose`: each refinement and each view answered wrong, on stderr (what issue 42 works on).
 void staircaseFigures(bool verbose) {
   using namespace hope::synthetic;
+  constexpr int kSeeds = 7;
+  constexpr double kOffDeg = 3.0;
   int right = 0, wrong = 0;
-  double worst = 0, refine_worst = 0;
-  int refine_applied = 0;  // a refinement not applied (nothing level in reach) measures nothing
+  double worst = 0, refine_worst = 0, spread_worst = 0, off_residual_worst = 0;
+  int off_corrected = 0;  // views refined from kOffDeg off to within 1° in every rendering
   hope::UpEstimator estimator;
   for (int steps : {6, 12, 16}) {
     for (bool far_walls : {true, false}) {
@@ -210,23 +216,45 @@ void staircaseFigures(bool verbose) {
       layout.far_walls = far_walls;
       const Scene stairs = staircase(layout);
       for (const StaircaseView& view : staircaseViews(layout)) {
-        const RenderedFrame frame = stairs.render(view.camera, kinectV2Noise());
-        const auto cloud = hope::depthToCloud(frame.depth, view.camera.intrinsics, 1.0);
-        // Refinement from the true orientation: every degree it turns is error.
-        const hope::UpEstimate refined = estimator.refine(
-            hope::PointsView::of(cloud), hope::Orientation::fromTransform(view.camera.pose));
-        if (refined.applied) {
-          refine_worst = std::max(refine_worst, refined.correction_deg);
-          ++refine_applied;
+        const Eigen::Vector3d true_up = hope::upInSensor(view.camera.pose);
+        Eigen::Isometry3d off_pose = view.camera.pose;
+        off_pose.linear() =
+            off_pose.linear() * Eigen::AngleAxisd(kOffDeg * M_PI / 180, Eigen::Vector3d::UnitX());
+        std::vector<Eigen::Vector3d> ups;
+        bool corrected_everywhere = true;
+        for (int seed = 1; seed <= kSeeds; ++seed) {
+          SensorNoise noise = kinectV2Noise();
+          noise.seed = static_cast<std::uint32_t>(seed);
+          const RenderedFrame frame = stairs.render(view.camera, noise);
+          const auto cloud = hope::depthToCloud(frame.depth, view.camera.intrinsics, 1.0);
+          const hope::PointsView points = hope::PointsView::of(cloud);
+          const hope::UpEstimate refined =
+              estimator.refine(points, hope::Orientation::fromTransform(view.camera.pose));
+          refine_worst =
+              std::max(refine_worst, hope::evaluation::angleDeg(refined.up_in_sensor, true_up));
+          ups.push_back(refined.up_in_sensor);
+          const hope::UpEstimate from_off =
+              estimator.refine(points, hope::Orientation::fromTransform(off_pose));
+          const double residual = hope::evaluation::angleDeg(from_off.up_in_sensor, true_up);
+          if (from_off.applied) off_residual_worst = std::max(off_residual_worst, residual);
+          corrected_everywhere = corrected_everywhere && from_off.applied && residual <= 1.0;
+          if (verbose && seed == 1) {
+            std::fprintf(stderr, "refine %d steps, far walls %d, %s: %s\n  from %.0f° off: %s\n",
+                         steps, int(far_walls), view.name.c_str(), refined.describe().c_str(),
+                         kOffDeg, from_off.describe().c_str());
+          }
         }
-        if (verbose) {
-          std::fprintf(stderr, "refine %d steps, far walls %d, %s: %s\n", steps, int(far_walls),
-                       view.name.c_str(), refined.describe().c_str());
+        for (const Eigen::Vector3d& a : ups) {
+          for (const Eigen::Vector3d& b : ups) {
+            spread_worst = std::max(spread_worst, hope::evaluation::angleDeg(a, b));
+          }
         }
+        off_corrected += corrected_everywhere;
+        const auto cloud = hope::depthToCloud(stairs.render(view.camera, kinectV2Noise()).depth,
+                                              view.camera.intrinsics, 1.0);
         try {
           const hope::UpEstimate e = estimator.estimate(hope::PointsView::of(cloud));
-          const double error =
-              hope::evaluation::angleDeg(e.up_in_sensor, hope::upInSensor(view.camera.pose));
+          const double error = hope::evaluation::angleDeg(e.up_in_sensor, true_up);
           (error <= 2.0 ? right : wrong) += 1;
           if (error > 2.0 && verbose) {
             std::fprintf(stderr, "stairs %d steps, far walls %d, %s: %.1f° off: %s\n", steps,
@@ -244,7 +272,9 @@ void staircaseFigures(bool verbose) {
   print("stairs.up_wrong", wrong);
   print("stairs.up_error_deg.worst", worst);
   print("stairs.refine_error_deg.worst", refine_worst);
-  print("stairs.refine_applied", refine_applied);
+  print("stairs.refine_spread_deg.worst", spread_worst);
+  print("stairs.refine_from_3deg_off.corrected", off_corrected);
+  print("stairs.refine_from_3deg_off.residual_deg.worst", off_residual_worst);
 }
 
 // mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from

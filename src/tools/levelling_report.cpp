@@ -348,7 +348,9 @@ std::vector<std::string> writeLevellingSection(std::ostream& md, const std::stri
   // Refinement of a given orientation.
   md << "\n### Refinement of a given orientation\n\n"
         "`--level` with another orientation option turns the given orientation by at most 5° "
-        "(the default bound) so that the level surfaces come out level.\n\n";
+        "(the default bound) so that the level surfaces come out level, and only by more than "
+        "they can tell: a surface L across at range d, its ends each off by the sensor's noise "
+        "σ(d), shows up to atan(2σ(d) / L) of tilt while level.\n\n";
   {
     std::vector<std::string> absent;
     bool tum_done = false;

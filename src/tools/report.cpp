@@ -172,6 +172,7 @@ std::string levellingJson(const UpEstimate& e) {
   }
   if (e.refinement) {
     text += ", \"correction_deg\": " + number(e.correction_deg) +
+            ", \"resolution_deg\": " + number(e.resolution_deg) +
             ", \"applied\": " + (e.applied ? "true" : "false") + ", \"note\": \"" + escape(e.note) +
             "\"";
   }

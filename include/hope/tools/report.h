@@ -30,7 +30,8 @@ std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference);
 
 // What up from the scene found, as a JSON object: "source" ("scene" or "refined"), "up_in_sensor",
 // "support_area_m2", "angle_spread_deg", "level_surfaces", "level_heights", "prior", "pitch_deg",
-// "roll_deg", "ms", and for a refinement "correction_deg", "applied" and "note".
+// "roll_deg", "ms", and for a refinement "correction_deg", "resolution_deg" (the tilt the level
+// surfaces can tell), "applied" and "note".
 std::string levellingJson(const UpEstimate& estimate);
 
 // One plane as a JSON object on one line: every field of hope::HorizontalPlane.

@@ -108,7 +108,8 @@ struct Extracted {
     PlacementQuery query;
     query.footprint = footprint;
     query.plane_index = plane_index;
-    return extractor.findPlacements(result, query);
+    return findPlacements(extractor.alignedPoints(), result.planes, result.point_labels,
+                          result.local_origin, extractor.params(), query);
   }
 };
 

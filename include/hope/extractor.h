@@ -3,19 +3,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
-#include "hope/gravity_alignment.h"
-#include "hope/grid_filter.h"
+#include "hope/orientation.h"
 #include "hope/params.h"
-#include "hope/placement.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"
-#include "hope/scan_gap_bridging.h"
-#include "hope/standing_objects.h"
 
 namespace hope {
 
@@ -83,6 +81,11 @@ class Extractor {
  public:
   // Throws std::invalid_argument when a parameter is out of range (see validate()).
   explicit Extractor(const Params& params = Params());
+  ~Extractor();
+  Extractor(Extractor&&) noexcept;
+  Extractor& operator=(Extractor&&) noexcept;
+  Extractor(const Extractor&) = delete;
+  Extractor& operator=(const Extractor&) = delete;
 
   const Params& params() const { return params_; }
 
@@ -99,19 +102,11 @@ class Extractor {
     return extract(PointsView::of(cloud), orientation, outputs);
   }
 
-  // Where `query`'s footprint fits on the planes of `result`, which must be the last call's
-  // (with point labels): poses on observed surface clear of what stands there, best first
-  // (placement.h). Throws std::invalid_argument for a bad footprint or plane index.
-  std::vector<Placement> findPlacements(const Result& result, const PlacementQuery& query) const;
-
-  // Intermediate products of the last call, for visualization and tests. Aligned points are
-  // in the reference frame minus Result::local_origin, one per input point, in input order.
-  // When the orientation needed no rotation and no translation, extract() made no copy and
-  // they are the input cloud itself: then they are valid only while that cloud lives.
-  AlignedPoints alignedPoints() const { return aligned_view_; }
-  const VoxelGrid& grid() const { return grid_; }
-  const std::vector<Eigen::Vector3f>& voxelNormals() const { return normals_; }
-  const std::vector<std::uint8_t>& candidateMask() const { return is_candidate_; }
+  // The last call's points in the reference frame minus Result::local_origin, one per input
+  // point, in input order (an overlay draws them). When the orientation needed no rotation and
+  // no translation, extract() made no copy and they are the input cloud itself: then they are
+  // valid only while that cloud lives.
+  AlignedPoints alignedPoints() const;
 
  private:
   // The objects standing on result's planes and each plane's free area; `viewpoint` (the
@@ -120,13 +115,9 @@ class Extractor {
                           const std::optional<Eigen::Vector3d>& viewpoint) const;
 
   Params params_;
-  std::vector<Eigen::Vector3f> aligned_;  // the aligned copy, when one is needed
-  AlignedPoints aligned_view_;            // what the stages read: aligned_ or the input
-  VoxelGrid grid_;
-  std::vector<Eigen::Vector3f> normals_;
-  std::vector<std::uint8_t> is_candidate_;
-  std::vector<VoxelLink> links_;           // scan-gap links for Z clustering
-  std::vector<std::int32_t> voxel_plane_;  // plane index of each voxel, -1 for none
+  // The stages' buffers, reused across calls (the grid, normals, candidates, links, labels).
+  struct Buffers;
+  std::unique_ptr<Buffers> buffers_;
 };
 
 }  // namespace hope

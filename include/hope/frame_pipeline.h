@@ -17,16 +17,16 @@
 #include <Eigen/Core>
 
 #include "hope/extractor.h"
-#include "hope/gravity_alignment.h"
+#include "hope/orientation.h"
 #include "hope/params.h"
-#include "hope/placement.h"
 #include "hope/plane_tracker.h"
 #include "hope/points_view.h"
-#include "hope/standing_objects.h"
 #include "hope/surface_map.h"
-#include "hope/up_estimation.h"
 
 namespace hope {
+
+class UpEstimator;
+class UpSmoother;
 
 // Up from the scene (up_estimation.h).
 enum class SceneLevelling {
@@ -152,6 +152,13 @@ class FramePipeline {
                            const FrameOutputs& outputs = FrameOutputs(),
                            const Eigen::Vector3d& viewpoint = Eigen::Vector3d::Zero());
 
+  // One cloud on its own (hope_extract --input, Python's Extractor): levelled from its own scene
+  // alone when levelling is on (a refusal skips it: Frame::skipped says why, there is no earlier
+  // up to hold), its planes numbered in extraction order; no stamp, and the pipeline's tracks,
+  // map, gravity average and running up are neither read nor changed.
+  Frame processAlone(const PointsView& cloud, const Orientation& given,
+                     const FrameOutputs& outputs = FrameOutputs());
+
   // Where `query`'s footprint fits on `frame`'s planes: a frame processed with
   // FrameOutputs::keep_points (placement.h). Throws std::invalid_argument otherwise, or for a bad
   // footprint or plane index.
@@ -179,14 +186,15 @@ class FramePipeline {
   // The orientation levelled from the scene as options_.levelling says; false when the frame
   // is to be skipped (`frame.skipped` then says why).
   bool level(const PointsView& cloud, Orientation& orientation, Frame& frame);
+  // `identify`: the planes take persistent ids from the tracker or the map.
   Frame extractAndIdentify(const PointsView& cloud, Frame frame, const Orientation& orientation,
-                           const FrameOutputs& outputs);
+                           const FrameOutputs& outputs, bool identify = true);
   void noteStamp(double stamp, Frame& frame);
 
   PipelineOptions options_;
   Extractor extractor_;
   std::unique_ptr<UpEstimator> up_estimator_;
-  UpSmoother up_smoother_;
+  std::unique_ptr<UpSmoother> up_smoother_;
   std::optional<double> last_level_stamp_;  // the last frame whose own scene gave up
   PlaneTracker tracker_;
   SurfaceMap map_;

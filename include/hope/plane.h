@@ -73,4 +73,50 @@ struct HorizontalPlane {
   }
 };
 
+struct StandingObject {
+  int index = 0;        // 0, 1, … within the frame
+  int plane_index = 0;  // the plane it stands on: an index into Result::planes
+  int plane_id = 0;     // and that plane's id when the objects were found
+  std::size_t num_points = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of its points, reference frame
+  // The smallest upright box around its points: centre, yaw of its first side about z
+  // (radians, in [0, π)), and size along that side, across it and up, z from the plane to the
+  // object's top.
+  Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();
+  // Convex outline of its points in xy at the plane's height, counter-clockwise from above.
+  std::vector<Eigen::Vector3d> footprint;
+  // Of its top above the plane, metres.
+  double height = 0.0;
+};
+
+struct Footprint {
+  double width = 0.1;       // metres, along the placement's yaw
+  double depth = 0.1;       // metres, across it
+  double clearance = 0.02;  // metres kept free around it from every object
+};
+
+// Throws std::invalid_argument naming the value: width and depth in (0, 100] m, clearance in
+// [0, 10] m, all finite.
+void validate(const Footprint& footprint);
+
+struct Placement {
+  int plane_index = 0;  // into Result::planes
+  int plane_id = 0;
+  // The footprint's centre at the plane's height, in the reference frame, and the direction
+  // of its width side about z (radians, [0, π)).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+  // Distance from the centre to the nearest unobserved cell, edge or object clearance, metres:
+  // how far the placement may be off and still rest on observed free surface.
+  double margin = 0.0;
+};
+
+struct PlacementQuery {
+  Footprint footprint;
+  int plane_index = -1;         // only this plane (an index into the planes), or -1: any
+  std::size_t max_results = 5;  // placements at least a footprint apart, best first
+};
+
 }  // namespace hope

@@ -1,12 +1,12 @@
 // Persistent plane ids across frames: the paper's NNPM (§2.5) or an improved tracker.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "hope/box_index.h"
 #include "hope/plane.h"
 
 namespace hope {
@@ -70,6 +70,11 @@ const char* toString(TrackEvent::Kind kind);
 class PlaneTracker {
  public:
   explicit PlaneTracker(const TrackerOptions& options = TrackerOptions());
+  ~PlaneTracker();
+  PlaneTracker(const PlaneTracker& other);
+  PlaneTracker& operator=(const PlaneTracker& other);
+  PlaneTracker(PlaneTracker&&) noexcept;
+  PlaneTracker& operator=(PlaneTracker&&) noexcept;
 
   // Gives each plane of a new frame its persistent id, age and last_seen (in place) and
   // returns what happened to ids. Ids start at 0 in extraction order on the first frame and
@@ -102,10 +107,9 @@ class PlaneTracker {
   std::vector<Track> tracks_;
   int next_id_ = 0;
   // Gating indexes and the planes' boxes and heights in compact arrays, kept so that their
-  // memory is reused frame after frame.
-  BoxIndex planes_index_, matched_index_;
-  std::vector<BoxIndex::Box> boxes_;
-  std::vector<double> heights_;
+  // memory is reused frame after frame (not copied with the tracker).
+  struct Scratch;
+  std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace hope

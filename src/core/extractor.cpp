@@ -1,17 +1,19 @@
 #include "hope/extractor.h"
 
-#include "hope/placement.h"
-
 #include <chrono>
 #include <optional>
 #include <sstream>
 
 #include "hope/fragment_merging.h"
+#include "hope/gravity_alignment.h"
+#include "hope/grid_filter.h"
 #include "hope/horizontal_candidates.h"
 #include "hope/normal_estimation.h"
 #include "hope/pca_refinement.h"
+#include "hope/placement.h"
 #include "hope/plane_description.h"
 #include "hope/scan_gap_bridging.h"
+#include "hope/standing_objects.h"
 #include "hope/surface_assembly.h"
 #include "hope/z_clustering.h"
 #include "parallel.h"
@@ -46,10 +48,29 @@ std::vector<std::uint32_t> Result::pointsOf(std::size_t index) const {
   return indices;
 }
 
-Extractor::Extractor(const Params& params) : params_(params) { validate(params_); }
+struct Extractor::Buffers {
+  std::vector<Eigen::Vector3f> aligned;  // the aligned copy, when one is needed
+  AlignedPoints aligned_view;            // what the stages read: `aligned` or the input
+  VoxelGrid grid;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::uint8_t> is_candidate;
+  std::vector<VoxelLink> links;           // scan-gap links for Z clustering
+  std::vector<std::int32_t> voxel_plane;  // plane index of each voxel, -1 for none
+};
+
+Extractor::Extractor(const Params& params)
+    : params_(params), buffers_(std::make_unique<Buffers>()) {
+  validate(params_);
+}
+Extractor::~Extractor() = default;
+Extractor::Extractor(Extractor&&) noexcept = default;
+Extractor& Extractor::operator=(Extractor&&) noexcept = default;
+
+AlignedPoints Extractor::alignedPoints() const { return buffers_->aligned_view; }
 
 Result Extractor::extract(const PointsView& cloud, const Orientation& orientation,
                           const ExtractOutputs& outputs) {
+  Buffers& b = *buffers_;
   Result result;
   result.sensor_to_reference = orientation.sensorToReference();
   result.input_points = cloud.count;
@@ -62,21 +83,21 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   if (alignmentIsIdentity(cloud, orientation, result.local_origin)) {
     // A z-up cloud in its own frame (LiDAR, merged maps): read in place, only its box is needed.
     result.finite_points = finiteBox(cloud, finite_box, threads);
-    aligned_.clear();
-    aligned_view_ = AlignedPoints(cloud.data, cloud.count, cloud.stride);
+    b.aligned.clear();
+    b.aligned_view = AlignedPoints(cloud.data, cloud.count, cloud.stride);
   } else {
     result.finite_points =
-        alignToGravity(cloud, orientation, aligned_, result.local_origin, &finite_box, threads);
-    aligned_view_ = AlignedPoints(aligned_);
+        alignToGravity(cloud, orientation, b.aligned, result.local_origin, &finite_box, threads);
+    b.aligned_view = AlignedPoints(b.aligned);
   }
   hints.finite_box = finite_box;
   hints.finite_points = result.finite_points;
   hints.threads = threads;
   result.timings.alignment_ms = stage.lap();
 
-  grid_.build(aligned_view_, params_.r_xy, params_.r_z, hints);
-  result.voxels = grid_.numVoxels();
-  const Eigen::Vector3d extent = grid_.extent();
+  b.grid.build(b.aligned_view, params_.r_xy, params_.r_z, hints);
+  result.voxels = b.grid.numVoxels();
+  const Eigen::Vector3d extent = b.grid.extent();
   // No indoor scene and few outdoor scans span a kilometre: such a cloud is almost always in
   // millimetres, which would make every plane look like a slope.
   if (extent.maxCoeff() > 1000.0) {
@@ -87,58 +108,58 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.grid_filter_ms = stage.lap();
 
-  estimateNormals(grid_, params_.normal_radius_factor, normals_, threads);
+  estimateNormals(b.grid, params_.normal_radius_factor, b.normals, threads);
   // The sensor position in the grid's coordinates, when known.
   std::optional<Eigen::Vector3d> viewpoint;
   if (orientation.viewpoint()) viewpoint = *orientation.viewpoint() - result.local_origin;
-  links_.clear();
+  b.links.clear();
   // A camera's image (PointsView::imageLike) samples surfaces densely in
   // both directions; only a LiDAR's rings × azimuth layout or an unorganized scan is bridged.
   // (On the rendered tracking sequences bridging the far floor of depth images added ids.)
   if (params_.bridge_scan_gaps && viewpoint && !cloud.imageLike()) {
-    result.bridged_voxels = bridgeScanGaps(grid_, *viewpoint, params_, normals_, links_);
+    result.bridged_voxels = bridgeScanGaps(b.grid, *viewpoint, params_, b.normals, b.links);
   }
   result.timings.normals_ms = stage.lap();
 
   const double gamma = params_.gamma();
-  result.candidates = selectHorizontalCandidates(normals_, gamma, is_candidate_);
+  result.candidates = selectHorizontalCandidates(b.normals, gamma, b.is_candidate);
   result.timings.candidates_ms = stage.lap();
 
   const auto clusters =
-      zClustering(grid_, is_candidate_, params_.r_z, params_.min_cluster_voxels, links_);
+      zClustering(b.grid, b.is_candidate, params_.r_z, params_.min_cluster_voxels, b.links);
   result.clusters = clusters.size();
   result.timings.clustering_ms = stage.lap();
 
-  const ClusterRefinement refinement = refineClusters(grid_, normals_, clusters, gamma);
+  const ClusterRefinement refinement = refineClusters(b.grid, b.normals, clusters, gamma);
   result.timings.refinement_ms = stage.lap();
 
   AssemblyCounts counts;
   std::vector<Fragment> fragments =
-      describeFragments(grid_, aligned_view_, clusters, refinement, params_, threads, counts);
+      describeFragments(b.grid, b.aligned_view, clusters, refinement, params_, threads, counts);
   result.timings.description_ms = stage.lap();
 
   const std::vector<std::vector<std::size_t>> groups =
-      groupFragments(grid_, fragments, viewpoint, params_);
+      groupFragments(b.grid, fragments, viewpoint, params_);
   std::vector<Surface> surfaces =
-      assembleSurfaces(grid_, aligned_view_, normals_, is_candidate_, links_, fragments, groups,
-                       params_, voxel_plane_, counts);
+      assembleSurfaces(b.grid, b.aligned_view, b.normals, b.is_candidate, b.links, fragments,
+                       groups, params_, b.voxel_plane, counts);
   result.rejected_by_refinement = counts.rejected_by_refinement;
   result.merged_fragments = counts.merged_fragments;
   result.clusters += counts.fringe_clusters;
   result.timings.merging_ms = stage.lap();
 
-  if (params_.merge_fragments) redescribeSurfaces(grid_, aligned_view_, surfaces, threads);
+  if (params_.merge_fragments) redescribeSurfaces(b.grid, b.aligned_view, surfaces, threads);
   const KeptSurfaces kept = keepInBandAndArea(surfaces, result.local_origin.z(), params_,
-                                              voxel_plane_, result.rejected_by_band_or_area);
+                                              b.voxel_plane, result.rejected_by_band_or_area);
   // Each kept surface measured in full, as the paper's planes are: bbox and hull from the
   // points, for all surfaces in one read of the points' voxels, which labels the points too.
   PointLabelling labelling;
   if (outputs.point_labels || outputs.objects) {
     result.point_labels.resize(cloud.count);
-    labelling.voxel_label = &voxel_plane_;
+    labelling.voxel_label = &b.voxel_plane;
     labelling.point_labels = result.point_labels.data();
   }
-  describeInFull(grid_, aligned_view_, kept.voxels, kept.planes, threads, labelling);
+  describeInFull(b.grid, b.aligned_view, kept.voxels, kept.planes, threads, labelling);
   for (HorizontalPlane* plane : kept.planes) {
     plane->translate(result.local_origin);
     if (orientation.viewpoint()) {
@@ -167,24 +188,15 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
 
 void Extractor::describeWhatStands(Result& result, const ObjectParams& object_params,
                                    const std::optional<Eigen::Vector3d>& viewpoint) const {
+  const Buffers& b = *buffers_;
   StandingObjects standing =
-      findStandingObjects(aligned_view_, result.planes, result.point_labels, result.local_origin,
+      findStandingObjects(b.aligned_view, result.planes, result.point_labels, result.local_origin,
                           params_, object_params, viewpoint);
-  const std::vector<double> free = freeAreas(aligned_view_, result.planes, result.point_labels,
+  const std::vector<double> free = freeAreas(b.aligned_view, result.planes, result.point_labels,
                                              standing, result.local_origin, params_);
   for (std::size_t p = 0; p < result.planes.size(); ++p) result.planes[p].free_area = free[p];
   result.objects = std::move(standing.objects);
   result.point_objects = std::move(standing.point_objects);
-}
-
-std::vector<Placement> Extractor::findPlacements(const Result& result,
-                                                 const PlacementQuery& query) const {
-  if (result.point_labels.size() != aligned_view_.size()) {
-    throw std::invalid_argument(
-        "findPlacements needs the last extraction's result with its point labels");
-  }
-  return hope::findPlacements(aligned_view_, result.planes, result.point_labels,
-                              result.local_origin, params_, query);
 }
 
 }  // namespace hope

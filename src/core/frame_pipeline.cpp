@@ -7,6 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hope/gravity_alignment.h"
+#include "hope/placement.h"
+#include "hope/standing_objects.h"
+#include "hope/up_estimation.h"
+
 namespace hope {
 
 namespace {
@@ -84,7 +89,7 @@ void validate(const PipelineOptions& options) {
 FramePipeline::FramePipeline(const PipelineOptions& options)
     : options_((validate(options), options)),
       extractor_(options.extraction),
-      up_smoother_(options.level_smoothing),
+      up_smoother_(std::make_unique<UpSmoother>(options.level_smoothing)),
       tracker_(trackerOptionsFor(options.identity)),
       map_(surfaceMapOptionsFor(options.extraction)) {}
 
@@ -121,7 +126,7 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
   }
   if (options.level_smoothing != options_.level_smoothing ||
       options.levelling != options_.levelling) {
-    up_smoother_ = UpSmoother(options.level_smoothing);
+    *up_smoother_ = UpSmoother(options.level_smoothing);
     last_level_stamp_.reset();
   }
   options_ = options;
@@ -137,13 +142,13 @@ void FramePipeline::resetMap() { map_.reset(); }
 void FramePipeline::restart() {
   tracker_.reset();
   gravity_.clear();
-  up_smoother_.reset();
+  up_smoother_->reset();
   last_level_stamp_.reset();
 }
 
 std::optional<Eigen::Vector3d> FramePipeline::smoothedUp() const {
-  if (up_smoother_.empty()) return std::nullopt;
-  return up_smoother_.value();
+  if (up_smoother_->empty()) return std::nullopt;
+  return up_smoother_->value();
 }
 
 void FramePipeline::noteStamp(double stamp, Frame& frame) {
@@ -199,6 +204,26 @@ Frame FramePipeline::processWithGravity(const PointsView& cloud, double stamp,
   return extractAndIdentify(cloud, std::move(frame), orientation, outputs);
 }
 
+Frame FramePipeline::processAlone(const PointsView& cloud, const Orientation& given,
+                                  const FrameOutputs& outputs) {
+  Frame frame;
+  Orientation orientation = given;
+  if (options_.levelling != SceneLevelling::kOff) {
+    if (!up_estimator_) up_estimator_ = std::make_unique<UpEstimator>(levellingFor(options_));
+    try {
+      frame.levelling = options_.levelling == SceneLevelling::kEstimate
+                            ? up_estimator_->estimate(cloud)
+                            : up_estimator_->refine(cloud, given);
+    } catch (const LevellingError& error) {
+      frame.skipped = error.what();  // no earlier up to hold: the cloud stands alone
+      return frame;
+    }
+    // As process() turns a first frame: the given orientation about the sensor.
+    if (frame.levelling->applied) orientation = levelledTo(given, frame.levelling->up_in_sensor);
+  }
+  return extractAndIdentify(cloud, std::move(frame), orientation, outputs, false);
+}
+
 bool FramePipeline::level(const PointsView& cloud, Orientation& orientation, Frame& frame) {
   if (options_.levelling == SceneLevelling::kOff) return true;
   if (!up_estimator_) up_estimator_ = std::make_unique<UpEstimator>(levellingFor(options_));
@@ -210,21 +235,22 @@ bool FramePipeline::level(const PointsView& cloud, Orientation& orientation, Fra
       const double since = last_level_stamp_ ? frame.stamp - *last_level_stamp_ : 0.0;
       const double share =
           1.0 - std::pow(1.0 - options_.level_smoothing, std::max(1.0, 30.0 * since));
-      orientation = levelledTo(orientation, up_smoother_.add(frame.levelling->up_in_sensor, share));
+      orientation =
+          levelledTo(orientation, up_smoother_->add(frame.levelling->up_in_sensor, share));
       last_level_stamp_ = frame.stamp;
       ++counters_.levelled;
       return true;
     } catch (const LevellingError& error) {
       // Nothing level in view: the last up holds for a while, then frames are skipped.
       frame.skipped = error.what();
-      if (up_smoother_.empty() || !last_level_stamp_ ||
+      if (up_smoother_->empty() || !last_level_stamp_ ||
           frame.stamp - *last_level_stamp_ > options_.level_hold_s) {
         ++counters_.skipped;
         return false;
       }
       frame.level_held = true;
       ++counters_.level_held;
-      orientation = levelledTo(orientation, up_smoother_.value());
+      orientation = levelledTo(orientation, up_smoother_->value());
       return true;
     }
   }
@@ -233,20 +259,20 @@ bool FramePipeline::level(const PointsView& cloud, Orientation& orientation, Fra
   frame.levelling = up_estimator_->refine(cloud, orientation);
   const Eigen::Matrix3d rotation = orientation.sensorToReference().linear();
   if (frame.levelling->applied) {
-    up_smoother_.add(rotation * frame.levelling->up_in_sensor);
+    up_smoother_->add(rotation * frame.levelling->up_in_sensor);
     ++counters_.levelled;
   } else {
     ++counters_.uncorrected;
   }
-  if (!up_smoother_.empty()) {
-    orientation = levelledTo(orientation, rotation.transpose() * up_smoother_.value());
+  if (!up_smoother_->empty()) {
+    orientation = levelledTo(orientation, rotation.transpose() * up_smoother_->value());
   }
   return true;
 }
 
 Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
-                                        const Orientation& orientation,
-                                        const FrameOutputs& outputs) {
+                                        const Orientation& orientation, const FrameOutputs& outputs,
+                                        bool identify) {
   frame.orientation = orientation;
   ExtractOutputs wanted;
   wanted.point_labels = outputs.point_labels || outputs.keep_points;
@@ -254,9 +280,10 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   wanted.object_params = options_.object_params;
   frame.result = extractor_.extract(cloud, orientation, wanted);
   const auto start = std::chrono::steady_clock::now();
-  if (options_.identity == Identity::kMap) {
+  // Not identified: the ids stay the extraction order, the objects' plane ids already theirs.
+  if (identify && options_.identity == Identity::kMap) {
     frame.events = map_.update(frame.result.planes, frame.stamp, orientation.viewpoint());
-  } else {
+  } else if (identify) {
     frame.events = tracker_.update(frame.result.planes, frame.stamp);
   }
   frame.identity_ms =

@@ -106,13 +106,13 @@ struct SceneMotion {
 };
 
 // What the pairing cost needs of a remembered plane, after the scene's motion.
-struct Footprint {
+struct MovedPlane {
   std::array<double, 4> bbox;
   double height;
   int age;
 };
 
-Footprint footprintOf(const HorizontalPlane& plane, const SceneMotion& motion) {
+MovedPlane movedPlane(const HorizontalPlane& plane, const SceneMotion& motion) {
   if (motion.yaw == 0.0 && motion.shift.isZero()) return {plane.bbox, plane.height, plane.age};
   const Eigen::Rotation2Dd turn(motion.yaw);
   const Eigen::Vector2d t = motion.shift.head<2>();
@@ -133,7 +133,7 @@ HorizontalPlane moved(const HorizontalPlane& plane, const SceneMotion& motion) {
   HorizontalPlane out = plane;
   const Eigen::Rotation2Dd turn(motion.yaw);
   const Eigen::Vector2d t = motion.shift.head<2>();
-  const Footprint footprint = footprintOf(plane, motion);
+  const MovedPlane footprint = movedPlane(plane, motion);
   out.bbox = footprint.bbox;
   out.height = footprint.height;
   out.centroid.head<2>() = turn * plane.centroid.head<2>() + t;
@@ -173,7 +173,7 @@ SceneMotion sinceSeen(const Track& track) {
 constexpr double kIouWeight = 0.8;
 // `now` is a plane's box and height (read from compact arrays: the planes themselves are
 // large structs, and the gating touches many of them).
-double pairingCost(const Footprint& before, const BoxIndex::Box& now_bbox, double now_height,
+double pairingCost(const MovedPlane& before, const BoxIndex::Box& now_bbox, double now_height,
                    const TrackerOptions& o) {
   const double dz = std::fabs(now_height - before.height);
   if (dz > o.max_height_change) return kForbidden;
@@ -219,7 +219,7 @@ std::vector<CandidatePair> candidatePairs(const std::vector<Track>& tracks,
   pairs.reserve(2 * tracks.size());
   const double reach = pairingReach(o, limit);
   for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const Footprint before = footprintOf(tracks[t].plane, compose(sinceSeen(tracks[t]), motion));
+    const MovedPlane before = movedPlane(tracks[t].plane, compose(sinceSeen(tracks[t]), motion));
     index.forEachNear(before.bbox, before.height, reach, o.max_height_change, [&](int p) {
       const double cost = pairingCost(before, boxes[p], heights[p], o);
       if (cost < limit) pairs.push_back({static_cast<int>(t), p, cost});
@@ -295,9 +295,32 @@ bool estimateMotion(const std::vector<Track>& tracks, const std::vector<Horizont
 
 }  // namespace
 
-PlaneTracker::PlaneTracker(const TrackerOptions& options) : options_(options) {
+struct PlaneTracker::Scratch {
+  BoxIndex planes_index, matched_index;
+  std::vector<BoxIndex::Box> boxes;
+  std::vector<double> heights;
+};
+
+PlaneTracker::PlaneTracker(const TrackerOptions& options)
+    : options_(options), scratch_(std::make_unique<Scratch>()) {
   validate(options_);
 }
+PlaneTracker::~PlaneTracker() = default;
+PlaneTracker::PlaneTracker(const PlaneTracker& other)
+    : options_(other.options_),
+      tracks_(other.tracks_),
+      next_id_(other.next_id_),
+      scratch_(std::make_unique<Scratch>()) {}
+PlaneTracker& PlaneTracker::operator=(const PlaneTracker& other) {
+  if (this != &other) {
+    options_ = other.options_;
+    tracks_ = other.tracks_;
+    next_id_ = other.next_id_;
+  }
+  return *this;
+}
+PlaneTracker::PlaneTracker(PlaneTracker&&) noexcept = default;
+PlaneTracker& PlaneTracker::operator=(PlaneTracker&&) noexcept = default;
 
 void PlaneTracker::reset() { tracks_.clear(); }
 
@@ -362,26 +385,29 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   const double unpaired = 0.5 * o.max_match_cost;
   // Each track is priced against the planes near it only (gating before assignment: all
   // tracks × all planes would cost n²).
-  boxes_.clear();
-  heights_.clear();
+  scratch_->boxes.clear();
+  scratch_->heights.clear();
   for (const HorizontalPlane& p : planes) {
-    boxes_.push_back(p.bbox);
-    heights_.push_back(p.height);
+    scratch_->boxes.push_back(p.bbox);
+    scratch_->heights.push_back(p.height);
   }
-  BoxIndex& planes_near = planes_index_;
-  planes_near.rebuild(boxes_, heights_, gateCell(pairingReach(o, 2 * unpaired)), gateHeightCell(o));
+  BoxIndex& planes_near = scratch_->planes_index;
+  planes_near.rebuild(scratch_->boxes, scratch_->heights, gateCell(pairingReach(o, 2 * unpaired)),
+                      gateHeightCell(o));
   SceneMotion motion;
-  SparseAssignment assignment = assignWithUnpairedCost(
-      candidatePairs(tracks_, boxes_, heights_, planes_near, motion, o, 2 * unpaired), num_tracks,
-      num_planes, unpaired);
+  SparseAssignment assignment =
+      assignWithUnpairedCost(candidatePairs(tracks_, scratch_->boxes, scratch_->heights,
+                                            planes_near, motion, o, 2 * unpaired),
+                             num_tracks, num_planes, unpaired);
   SceneMotion estimate;
   // A motion far below the cost scales (a static sensor: the median of the planes' jitter)
   // would change no cost measurably; the second pass is skipped for it.
   if (estimateMotion(tracks_, planes, assignment.col_of_row, estimate) &&
       (std::fabs(estimate.yaw) > kNegligibleTurn || estimate.shift.norm() > kNegligibleShift)) {
-    SparseAssignment compensated = assignWithUnpairedCost(
-        candidatePairs(tracks_, boxes_, heights_, planes_near, estimate, o, 2 * unpaired),
-        num_tracks, num_planes, unpaired);
+    SparseAssignment compensated =
+        assignWithUnpairedCost(candidatePairs(tracks_, scratch_->boxes, scratch_->heights,
+                                              planes_near, estimate, o, 2 * unpaired),
+                               num_tracks, num_planes, unpaired);
     if (compensated.total_cost < assignment.total_cost) {
       assignment = std::move(compensated);
       motion = estimate;
@@ -419,12 +445,12 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   std::vector<double> matched_heights;
   for (int t = 0; any_new && t < num_tracks; ++t) {
     if (!matched[t]) continue;
-    const Footprint before = footprintOf(tracks_[t].plane, compose(sinceSeen(tracks_[t]), motion));
+    const MovedPlane before = movedPlane(tracks_[t].plane, compose(sinceSeen(tracks_[t]), motion));
     matched_tracks.push_back(t);
     matched_boxes.push_back(before.bbox);
     matched_heights.push_back(before.height);
   }
-  BoxIndex& matched_near = matched_index_;
+  BoxIndex& matched_near = scratch_->matched_index;
   if (any_new) {
     matched_near.rebuild(matched_boxes, matched_heights, gateCell(0.0), gateHeightCell(o));
   }
@@ -460,7 +486,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
     track.shifted = since.shift;
     int merged_into = -1;
     if (track.missed == 0) {
-      const Footprint before = footprintOf(track.plane, since);
+      const MovedPlane before = movedPlane(track.plane, since);
       int first = num_planes;  // the first such plane, as planes are ordered
       planes_near.forEachNear(before.bbox, before.height, 0.0, sameSurfaceHeight(o), [&](int p) {
         const HorizontalPlane& now = planes[p];

@@ -1,4 +1,4 @@
-#include "hope/range_noise.h"
+#include "hope/params.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -197,11 +197,12 @@ py::list placementDicts(const std::vector<hope::Placement>& placements) {
   return out;
 }
 
-// The Python-facing extractor: one core Extractor (it reuses its buffers between calls) and a
-// lock, since the GIL is released while it runs.
+// The Python-facing extractor: one cloud at a time through the core's frame pipeline
+// (FramePipeline::processAlone, as hope_extract --input), which reuses its buffers between
+// calls, and a lock, since the GIL is released while it runs.
 class PyExtractor {
  public:
-  explicit PyExtractor(const hope::Params& params) : extractor_(params) {}
+  explicit PyExtractor(const hope::Params& params) : pipeline_(optionsFor(params)) {}
 
   ExtractionResult extract(const py::array& points, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
@@ -209,35 +210,42 @@ class PyExtractor {
                            double level_bound, bool objects, double object_max_height) {
     const bool given =
         !gravity.is_none() || !quaternion.is_none() || !pose.is_none() || !transform.is_none();
-    // Levelled clouds are in the sensor's frame: the sensor at the origin unless told.
     hope::Orientation orientation = orientationOf(gravity, quaternion, pose, transform, viewpoint);
-    hope::LevellingParams levelling = hope::LevellingParams::forExtraction(extractor_.params());
-    levelling.max_correction_deg = level_bound;
-    if (level) hope::validate(levelling);  // ValueError naming level_bound's range
-    hope::ExtractOutputs outputs;
+    // Levelled clouds are in the sensor's frame: the sensor at the origin unless told.
+    if (level && !orientation.viewpoint()) {
+      orientation = orientation.withViewpoint(Eigen::Vector3d::Zero());
+    }
+    hope::PipelineOptions options = pipeline_.options();
+    options.levelling = !level  ? hope::SceneLevelling::kOff
+                        : given ? hope::SceneLevelling::kRefine
+                                : hope::SceneLevelling::kEstimate;
+    options.level_bound_deg = level_bound;
+    options.objects = objects;
+    options.object_params.max_height = object_max_height;
+    hope::validate(options);  // ValueError naming level_bound's or object_max_height's range
+    hope::FrameOutputs outputs;
     outputs.objects = objects;
-    outputs.object_params.max_height = object_max_height;
-    if (objects) hope::validate(outputs.object_params);  // ValueError naming the range
+    outputs.keep_points = objects;  // place() answers on this call's points
     py::array converted;
     const hope::PointsView view = pointsOf(points, converted);
     ExtractionResult out;
     {
       py::gil_scoped_release released;
       std::lock_guard<std::mutex> lock(mutex_);
-      if (level) {
-        if (!estimator_ || estimator_->params().cell != levelling.cell ||
-            estimator_->params().max_correction_deg != levelling.max_correction_deg) {
-          estimator_ = std::make_unique<hope::UpEstimator>(levelling);
-        }
-        out.levelling = given ? estimator_->refine(view, orientation) : estimator_->estimate(view);
-        orientation = out.levelling->orientation;
-        if (!viewpoint.is_none()) orientation = orientation.withViewpoint(viewpointOf(viewpoint));
+      const hope::PipelineOptions& now = pipeline_.options();
+      if (options.levelling != now.levelling || options.level_bound_deg != now.level_bound_deg ||
+          options.objects != now.objects ||
+          options.object_params.max_height != now.object_params.max_height) {
+        pipeline_.setOptions(options);
       }
-      out.result = extractor_.extract(view, orientation, outputs);
-      // place() asks the extractor about this call: it needs its planes and point labels.
+      hope::Frame frame = pipeline_.processAlone(view, orientation, outputs);
+      if (!frame.processed) throw hope::LevellingError(frame.skipped);
+      out.levelling = frame.levelling;
       if (objects) {
-        last_ = out.result;
+        out.result = frame.result;
+        last_ = std::move(frame);
       } else {
+        out.result = std::move(frame.result);
         last_.reset();
       }
     }
@@ -286,21 +294,26 @@ class PyExtractor {
     hope::PlacementQuery query;
     query.footprint = {width, depth, clearance};
     query.max_results = max_results;
-    query.plane_index = planeIndexOf(last_->planes, plane_id, "the last call");
+    query.plane_index = planeIndexOf(last_->result.planes, plane_id, "the last call");
     std::vector<hope::Placement> placements;
     {
       py::gil_scoped_release released;
-      placements = extractor_.findPlacements(*last_, query);
+      placements = pipeline_.findPlacements(*last_, query);
     }
     return placementDicts(placements);
   }
 
-  const hope::Params& params() const { return extractor_.params(); }
+  const hope::Params& params() const { return pipeline_.options().extraction; }
 
  private:
-  hope::Extractor extractor_;
-  std::unique_ptr<hope::UpEstimator> estimator_;  // made on the first level=True
-  std::optional<hope::Result> last_;              // the last extract(objects=True) result
+  static hope::PipelineOptions optionsFor(const hope::Params& params) {
+    hope::PipelineOptions options;
+    options.extraction = params;
+    return options;
+  }
+
+  hope::FramePipeline pipeline_;
+  std::optional<hope::Frame> last_;  // the last extract(objects=True) call, with its points
   std::mutex mutex_;
 };
 
@@ -594,6 +607,7 @@ py::dict timingsOf(const hope::Result& r) {
   d["refinement"] = t.refinement_ms;
   d["description"] = t.description_ms;
   d["merging"] = t.merging_ms;
+  d["objects"] = t.objects_ms;
   d["total"] = t.total_ms;
   return d;
 }
@@ -817,16 +831,17 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("transform") = py::none(), py::arg("viewpoint") = py::none(),
            py::arg("level") = false,
            py::arg("level_bound") = hope::LevellingParams().max_correction_deg,
-           py::arg("objects") = false,
+           py::arg("objects") = hope::PipelineOptions().objects,
            py::arg("object_max_height") = hope::ObjectParams().max_height,
            "points: N x 3 or H x W x 3 float32/float64 in the sensor frame. Orientation: at "
            "most one of gravity (accelerometer, 3), quaternion (x y z w), pose (tx ty tz qx qy "
            "qz qw) or transform (4 x 4); none = already z-up (with a warning when the cloud does "
            "not look it). level=True: up from the scene, estimated when no orientation is given "
            "(hope.LevellingError when nothing level is in view), else the given one corrected "
-           "by at most level_bound degrees. viewpoint: the sensor's position. objects=True: "
-           "also what stands on each plane (result.objects, result.object_labels, each "
-           "plane's free_area), points up to object_max_height above it.")
+           "by at most level_bound degrees. viewpoint: the sensor's position. objects (on by "
+           "default, as in every front-end): also what stands on each plane (result.objects, "
+           "result.object_labels, each plane's free_area), points up to object_max_height "
+           "above it; objects=False for the planes alone.")
       .def("place", &PyExtractor::place, py::arg("width"), py::arg("depth"),
            py::arg("clearance") = hope::Footprint().clearance, py::arg("plane_id") = py::none(),
            py::arg("max_results") = 5,

@@ -228,32 +228,11 @@ bool orientationGiven(const Options& o) {
          o.values.count("--gravity");
 }
 
-// Up from the scene with the extraction's grid size and the --level-bound.
-hope::LevellingParams levellingParams(const Options& o, const hope::Params& params) {
-  if (!o.flag("--level") && o.values.count("--level-bound")) {
-    throw std::invalid_argument("--level-bound goes with --level");
-  }
-  hope::LevellingParams levelling = hope::LevellingParams::forExtraction(params);
-  levelling.max_correction_deg = number(o, "--level-bound", levelling.max_correction_deg);
-  hope::validate(levelling);
-  return levelling;
-}
-
 // `orientation` with --viewpoint applied when it is given.
 hope::Orientation withViewpointOption(const Options& o, const hope::Orientation& orientation) {
   if (!o.values.count("--viewpoint")) return orientation;
   const auto v = hope::tools::parseNumbers(o.values.at("--viewpoint"), 3, "--viewpoint");
   return orientation.withViewpoint(Eigen::Vector3d(v[0], v[1], v[2]));
-}
-
-// --level: `orientation` estimated (nothing else given) or refined (one given) from the cloud;
-// --viewpoint still has the last word on where the sensor was.
-hope::UpEstimate levelFromScene(const Options& o, hope::UpEstimator& estimator,
-                                const hope::PointsView& cloud, hope::Orientation& orientation) {
-  hope::UpEstimate e =
-      orientationGiven(o) ? estimator.refine(cloud, orientation) : estimator.estimate(cloud);
-  orientation = withViewpointOption(o, e.orientation);
-  return e;
 }
 
 // The orientation options, with --viewpoint applied. `sensor_frame_cloud`: the points are in
@@ -339,8 +318,6 @@ hope::PipelineOptions pipelineOptions(const Options& o) {
   }
   return options;
 }
-
-hope::Params parameters(const Options& o) { return pipelineOptions(o).extraction; }
 
 // --place "W D [CLEARANCE]", checked before any file is read.
 std::optional<hope::PlacementQuery> placementQuery(const Options& o) {
@@ -796,14 +773,21 @@ int run(const Options& o) {
     throw std::invalid_argument("--rgb, --intrinsics and --depth-scale go with --depth");
   }
 
-  const hope::Params params = parameters(o);
-  hope::Extractor extractor(params);  // validates before any file is read
-  const std::optional<hope::PlacementQuery> place = placementQuery(o);
-  const hope::LevellingParams levelling = levellingParams(o, params);
-  const int repeat = wholeNumber(o, "--repeat", 1, 1, 100000);
+  if (!o.flag("--level") && o.values.count("--level-bound")) {
+    throw std::invalid_argument("--level-bound goes with --level");
+  }
   const bool level = o.flag("--level");
+  hope::PipelineOptions options = pipelineOptions(o);
+  // --level: up estimated from the scene when no orientation is given, else the given one
+  // refined by it.
+  options.levelling = !level                ? hope::SceneLevelling::kOff
+                      : orientationGiven(o) ? hope::SceneLevelling::kRefine
+                                            : hope::SceneLevelling::kEstimate;
+  hope::FramePipeline pipeline(options);  // validates before any file is read
+  const std::optional<hope::PlacementQuery> place = placementQuery(o);
+  const int repeat = wholeNumber(o, "--repeat", 1, 1, 100000);
   // A cloud levelled from the scene is taken to be in its sensor's frame, as a depth image is.
-  hope::Orientation pose = orientation(o, has_depth || level);
+  const hope::Orientation pose = orientation(o, has_depth || level);
   const std::uint64_t max_points = maxPoints(o);
   const double depth_scale = number(o, "--depth-scale", 5000);
   const hope::PinholeIntrinsics k = intrinsics(o);
@@ -823,39 +807,36 @@ int run(const Options& o) {
     input = hope::tools::loadDepth(o.values.at("--depth"), rgb, k, depth_scale, max_points);
   }
 
-  std::optional<hope::UpEstimate> levelled;
-  if (level) {
-    hope::UpEstimator estimator(levelling);
-    levelled = levelFromScene(o, estimator, input.view(), pose);
-    if (!o.flag("--quiet")) {
-      std::cerr << "hope_extract: " << (levelled->refinement ? "refined" : "levelled")
-                << " from the scene in " << std::fixed << std::setprecision(2) << levelled->time_ms
-                << " ms: " << levelled->describe() << "\n";
-      std::cerr.unsetf(std::ios::floatfield);
-    }
-    if (levelled->refinement && !levelled->applied) {
-      std::cerr << "hope_extract: warning: --level kept the given orientation: " << levelled->note
-                << "\n";
-    }
-  }
-
-  // Per-point labels only for the outputs that show them: 4 bytes a point saved otherwise.
-  hope::ExtractOutputs wanted;
+  // Per-point labels and objects only for the outputs that show them: 4 bytes a point and the
+  // objects' time saved otherwise; the points kept for placements and the overlay.
+  hope::FrameOutputs wanted;
   wanted.point_labels = outputs.count("--labels") || outputs.count("--overlay");
-  wanted.objects = !o.flag("--no-objects") && (!outputs.empty() || place);
-  wanted.object_params.max_height =
-      number(o, "--object-max-height", wanted.object_params.max_height);
-  hope::validate(wanted.object_params);
-  hope::Result result = extractor.extract(input.view(), pose, wanted);
-  const double cold_ms = result.timings.total_ms;
+  wanted.objects = !outputs.empty() || place;
+  wanted.keep_points = place || outputs.count("--overlay");
+  hope::Frame frame = pipeline.processAlone(input.view(), pose, wanted);
+  if (!frame.processed) throw hope::LevellingError(frame.skipped);
+  const std::optional<hope::UpEstimate>& levelled = frame.levelling;
+  if (levelled && !o.flag("--quiet")) {
+    std::cerr << "hope_extract: " << (levelled->refinement ? "refined" : "levelled")
+              << " from the scene in " << std::fixed << std::setprecision(2) << levelled->time_ms
+              << " ms: " << levelled->describe() << "\n";
+    std::cerr.unsetf(std::ios::floatfield);
+  }
+  if (levelled && levelled->refinement && !levelled->applied) {
+    std::cerr << "hope_extract: warning: --level kept the given orientation: " << levelled->note
+              << "\n";
+  }
+  const double cold_ms = frame.result.timings.total_ms;
   std::vector<double> steady_ms;
   for (int k = 1; k < repeat; ++k) {
-    result = extractor.extract(input.view(), pose, wanted);
-    steady_ms.push_back(result.timings.total_ms);
+    frame = pipeline.processAlone(input.view(), pose, wanted);
+    steady_ms.push_back(frame.result.timings.total_ms);
   }
+  hope::Result& result = frame.result;
+  const bool objects_made = options.objects && wanted.objects;
   std::vector<hope::Placement> placements;
   if (place) {
-    placements = extractor.findPlacements(result, *place);
+    placements = pipeline.findPlacements(frame, *place);
   }
   if (!level && !orientationGiven(o)) {
     // Nothing said which way is up: the cloud was taken as z-up. Say so when it does not look it.
@@ -867,7 +848,7 @@ int run(const Options& o) {
   for (const auto& warning : result.warnings)
     std::cerr << "hope_extract: warning: " << warning << "\n";
   if (!o.flag("--quiet")) hope::tools::printTable(std::cout, result);
-  if (!o.flag("--quiet") && wanted.objects) {
+  if (!o.flag("--quiet") && objects_made) {
     std::printf("%zu object(s) standing on the planes\n", result.objects.size());
   }
   if (!o.flag("--quiet") && place) printPlacements(*place, placements);
@@ -902,7 +883,7 @@ int run(const Options& o) {
   if (outputs.count("--overlay")) {
     hope::tools::writeImage(
         outputs.at("--overlay"),
-        hope::tools::renderOverlay(input, extractor.alignedPoints(), result, placements,
+        hope::tools::renderOverlay(input, hope::AlignedPoints(frame.points), result, placements,
                                    place ? place->footprint : hope::Footprint()));
   }
   for (auto& output : outputs) output.second.commit();

@@ -36,7 +36,7 @@ cmake --install "$build" >"$build/check_install.log" 2>&1 || {
   cat "$build/check_install.log"
   fail "cmake --install"
 }
-for f in include/hope/extractor.h include/hope/plane_colors.h include/hope/synthetic/scene.h \
+for f in include/hope/extractor.h include/hope/frame_pipeline.h \
   include/hope_ros/cloud_conversion.h lib/libhope_core.so lib/libhope_synthetic.so \
   lib/libhope_image_codecs.so lib/hope/hope_synth \
   lib/libhope_ros.so lib/libhope_nodelet.so lib/hope/hope_extract lib/hope/hope_node \
@@ -45,11 +45,32 @@ for f in include/hope/extractor.h include/hope/plane_colors.h include/hope/synth
   setup.bash; do
   [ -e "$prefix/$f" ] || fail "$f is not installed"
 done
-# Private to the package: the tools' and the evaluation's headers (their libraries are
-# static and not exported).
-for f in include/hope/tools include/hope/evaluation lib/libhope_io.so lib/libhope_evaluation.so; do
-  [ ! -e "$prefix/$f" ] || fail "$f is installed but not exported"
+# Private to the package: the stages', the tools', the evaluation's and the synthetic scenes'
+# headers (the tools' and the evaluation's libraries are static and not exported).
+for f in include/hope/tools include/hope/evaluation include/hope/synthetic \
+  src/core/include/hope/grid_filter.h src/core/include/hope/up_estimation.h lib/libhope_io.so \
+  lib/libhope_evaluation.so; do
+  [ ! -e "$prefix/$f" ] || fail "$f is installed but private"
 done
+# The public API: exactly these hand-written headers (the messages' and dynamic_reconfigure's
+# generated ones, named in CamelCase, aside), each compiling on its own with -Wall -Wextra.
+public="hope/depth_image.h hope/extractor.h hope/frame_pipeline.h hope/orientation.h
+hope/parameters.h hope/params.h hope/plane.h hope/plane_tracker.h hope/points_view.h
+hope/surface_map.h hope_ros/cloud_conversion.h hope_ros/object_conversion.h"
+installed=$(cd "$prefix/include" && find hope hope_ros -name '*.h' | grep -v '/[A-Z][^/]*\.h$' | sort)
+[ "$installed" = "$(echo "$public" | tr ' ' '\n' | sort)" ] ||
+  fail "the installed headers are not the public API: $(echo "$installed" | tr '\n' ' ')"
+[ "$(echo "$installed" | wc -l)" -le 12 ] || fail "more than 12 public headers"
+pcl_include=$(find /usr/include -maxdepth 1 -name 'pcl-*' | sort | tail -1)
+for h in $installed; do
+  echo "#include <$h>" | g++ -std=c++17 -fsyntax-only -Wall -Wextra -Werror -x c++ - \
+    -I"$prefix/include" -isystem /usr/include/eigen3 -isystem "$pcl_include" \
+    -isystem /usr/include/opencv4 >"$work/header.log" 2>&1 || {
+    cat "$work/header.log"
+    fail "$h does not compile on its own from the install space"
+  }
+done
+echo "ok the public API: $(echo "$installed" | wc -l) headers, each compiling on its own"
 
 set +u
 # shellcheck disable=SC1091

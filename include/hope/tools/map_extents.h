@@ -10,9 +10,9 @@
 #include <unordered_set>
 #include <vector>
 
-#include "hope/aligned_points.h"
 #include "hope/extractor.h"
 #include "hope/plane_tracker.h"
+#include "hope/points_view.h"
 
 namespace hope::tools {
 

@@ -1,11 +1,13 @@
 // Uses hope from its install space: the planes of a generated scene with a known answer (a
-// floor and a table top), read through a PointCloud2 as a nodelet receives it, and hope's
-// nodelet plugin loaded by pluginlib. Exit code 0 only if everything holds.
+// floor and a table top), read through a PointCloud2 as a nodelet receives it, by the one-cloud
+// extractor and by the frame pipeline over two frames (the ids kept), and hope's nodelet plugin
+// loaded by pluginlib. Exit code 0 only if everything holds.
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include <hope/extractor.h>
+#include <hope/frame_pipeline.h>
 #include <hope_ros/cloud_conversion.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_loader.hpp>
@@ -45,6 +47,22 @@ int main(int argc, char** argv) {
                  "(2500 points at 0.75 m)\n");
     return 1;
   }
+
+  // The same scene twice through the frame pipeline: the same two planes, each keeping its id.
+  hope::FramePipeline pipeline;
+  const hope::Frame first = pipeline.process(view, 0.0, hope::Orientation::identity());
+  const hope::Frame second = pipeline.process(view, 0.1, hope::Orientation::identity());
+  bool ids_kept = first.result.planes.size() == 2 && second.result.planes.size() == 2;
+  for (const hope::HorizontalPlane& before : first.result.planes) {
+    for (const hope::HorizontalPlane& now : second.result.planes) {
+      if (std::abs(before.height - now.height) < 1e-3) ids_kept &= before.id == now.id;
+    }
+  }
+  if (!ids_kept) {
+    std::fprintf(stderr, "FAIL: the frame pipeline should keep both planes' ids\n");
+    return 1;
+  }
+  std::printf("frame pipeline: 2 planes, ids kept over 2 frames\n");
 
   pluginlib::ClassLoader<nodelet::Nodelet> loader("nodelet", "nodelet::Nodelet");
   const std::string name = "hope/PlaneExtractorNodelet";

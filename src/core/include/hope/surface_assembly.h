@@ -12,12 +12,12 @@
 
 #include <Eigen/Core>
 
-#include "hope/aligned_points.h"
 #include "hope/fragment_merging.h"
 #include "hope/grid_filter.h"
 #include "hope/params.h"
 #include "hope/pca_refinement.h"
 #include "hope/plane.h"
+#include "hope/points_view.h"
 #include "hope/scan_gap_bridging.h"
 
 namespace hope {

@@ -45,30 +45,16 @@
 
 #include "hope/gravity_alignment.h"
 #include "hope/grid_filter.h"
+#include "hope/orientation.h"
 #include "hope/params.h"
 #include "hope/plane.h"
 #include "hope/points_view.h"
-#include "hope/range_noise.h"
 
 namespace hope {
 
 namespace detail {
 class LevelFit;
 }
-
-// Where up may lie before the scene is looked at.
-enum class UpPrior {
-  // kCamera for an image-like organized cloud or an unorganized one that lies in front of its
-  // origin (every point at z > 0: a camera's optical frame); kZUp otherwise.
-  kAuto,
-  // A camera: the image's top is up, pitched anywhere from 15° above level to straight down,
-  // rolled by at most 35°. The camera's axes come from the cloud's layout when it is an image
-  // (a pinhole fit: each point lies on its pixel's ray), else the optical frame's (x right,
-  // y down, z forward).
-  kCamera,
-  // A LiDAR or a map: up within 45° of the cloud's +z.
-  kZUp,
-};
 
 struct LevellingParams {
   // Edge of the levelling grid's cubic cells, metres (forExtraction: twice the extraction's
@@ -107,46 +93,6 @@ struct LevellingParams {
 
 // Throws std::invalid_argument naming the parameter and its accepted range.
 void validate(const LevellingParams& params);
-
-struct UpEstimate {
-  // The unit up vector in the input cloud's frame.
-  Eigen::Vector3d up_in_sensor = Eigen::Vector3d::UnitZ();
-  // The orientation to extract with. estimate(): the smallest rotation taking up to +z, the
-  // sensor at the origin (heights relative to the sensor, as with a gravity vector). refine():
-  // the given orientation turned about the sensor by `correction_deg` (or unchanged when the
-  // correction was not applied).
-  Orientation orientation = Orientation::identity();
-  // How sure: the level area that fixed up (footprint at cell size, m²), the RMS angle between
-  // its cells' normals and up, how many connected level surfaces and distinct heights it has.
-  double support_area = 0;
-  double angle_spread_deg = 0;
-  int level_surfaces = 0;
-  int level_heights = 0;
-  // The prior that was used, and for a camera its pitch (down positive) and roll, degrees.
-  UpPrior prior = UpPrior::kAuto;
-  double pitch_deg = 0, roll_deg = 0;
-  // refine() only: the angle between the given up and the scene's, the tilt the level
-  // surfaces can tell in that direction (the smallest correction they support), whether the
-  // correction was applied, and why not when it was not.
-  bool refinement = false;
-  double correction_deg = 0;
-  double resolution_deg = 0;
-  bool applied = true;
-  std::string note;
-  double time_ms = 0;
-
-  // One line: up, support, spread, surfaces (and the correction for a refinement).
-  std::string describe() const;
-};
-
-// The scene gives no evidence of up (see the file comment). what() says why and names the
-// other orientation sources.
-class LevellingError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-const char* toString(UpPrior prior);
 
 class UpEstimator {
  public:

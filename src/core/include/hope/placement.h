@@ -12,40 +12,12 @@
 
 #include <Eigen/Core>
 
-#include "hope/aligned_points.h"
 #include "hope/params.h"
 #include "hope/plane.h"
+#include "hope/points_view.h"
 #include "hope/standing_objects.h"
 
 namespace hope {
-
-struct Footprint {
-  double width = 0.1;       // metres, along the placement's yaw
-  double depth = 0.1;       // metres, across it
-  double clearance = 0.02;  // metres kept free around it from every object
-};
-
-// Throws std::invalid_argument naming the value: width and depth in (0, 100] m, clearance in
-// [0, 10] m, all finite.
-void validate(const Footprint& footprint);
-
-struct Placement {
-  int plane_index = 0;  // into Result::planes
-  int plane_id = 0;
-  // The footprint's centre at the plane's height, in the reference frame, and the direction
-  // of its width side about z (radians, [0, π)).
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  double yaw = 0.0;
-  // Distance from the centre to the nearest unobserved cell, edge or object clearance, metres:
-  // how far the placement may be off and still rest on observed free surface.
-  double margin = 0.0;
-};
-
-struct PlacementQuery {
-  Footprint footprint;
-  int plane_index = -1;         // only this plane (an index into the planes), or -1: any
-  std::size_t max_results = 5;  // placements at least a footprint apart, best first
-};
 
 // Placements for `query` on the planes seen from above, best (largest margin) first; empty when
 // the footprint fits nowhere observed. Throws std::invalid_argument for a bad footprint, a plane

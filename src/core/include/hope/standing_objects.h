@@ -22,50 +22,11 @@
 
 #include <Eigen/Core>
 
-#include "hope/aligned_points.h"
 #include "hope/params.h"
 #include "hope/plane.h"
-#include "hope/range_noise.h"
+#include "hope/points_view.h"
 
 namespace hope {
-
-struct ObjectParams {
-  // Points higher than this above a plane do not stand on it (a lamp above a table), metres.
-  // What reaches this high and carries no top of its own is structure (a wall's foot, a
-  // partition, a pillar), not an object: it is left out.
-  double max_height = 0.5;
-  // A plane up to this far above a lower one (or max_height, when that is larger) is the top
-  // of a thing standing there (a cabinet, a table, a desk, a shelf): what stands under its area
-  // up to it is that thing, however far it rises past max_height, metres.
-  double max_top_height = 2.0;
-  // Fewer points than this are noise (a stray return, a mixed pixel at an edge), not an object.
-  std::size_t min_points = 40;
-  // The sensor's range noise (used with a known viewpoint); unset: Extractor takes a LiDAR's
-  // for a rings × azimuth layout or an unorganized cloud more than 10 m across, a depth
-  // camera's for any other (findStandingObjects alone: a depth camera's).
-  std::optional<RangeNoise> noise;
-};
-
-// Throws std::invalid_argument naming the parameter and its range.
-void validate(const ObjectParams& params);
-
-struct StandingObject {
-  int index = 0;        // 0, 1, … within the frame
-  int plane_index = 0;  // the plane it stands on: an index into Result::planes
-  int plane_id = 0;     // and that plane's id when the objects were found
-  std::size_t num_points = 0;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of its points, reference frame
-  // The smallest upright box around its points: centre, yaw of its first side about z
-  // (radians, in [0, π)), and size along that side, across it and up, z from the plane to the
-  // object's top.
-  Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();
-  double yaw = 0.0;
-  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();
-  // Convex outline of its points in xy at the plane's height, counter-clockwise from above.
-  std::vector<Eigen::Vector3d> footprint;
-  // Of its top above the plane, metres.
-  double height = 0.0;
-};
 
 struct StandingObjects {
   std::vector<StandingObject> objects;

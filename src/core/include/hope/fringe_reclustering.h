@@ -12,9 +12,9 @@
 
 #include <Eigen/Core>
 
-#include "hope/aligned_points.h"
 #include "hope/grid_filter.h"
 #include "hope/params.h"
+#include "hope/points_view.h"
 #include "hope/scan_gap_bridging.h"
 #include "hope/surface_assembly.h"
 

@@ -1,14 +1,13 @@
-// Gravity alignment (paper §2.2, Eq 1): bring the cloud from the sensor frame F_s into the
-// reference frame F_r whose z axis points up.
+// The sensor's orientation in the gravity-aligned reference frame: as a source gives it (a pose,
+// tf, an IMU's quaternion, an accelerometer, a fixed rotation) or as the scene's level surfaces
+// tell it (UpEstimate), paper §2.2.
 #pragma once
 
 #include <optional>
+#include <stdexcept>
 #include <string>
-#include <vector>
 
 #include <Eigen/Geometry>
-
-#include "hope/points_view.h"
 
 namespace hope {
 
@@ -55,33 +54,58 @@ class Orientation {
   std::optional<Eigen::Vector3d> viewpoint_;
 };
 
-// The reference frame's +z (up) in the sensor's frame: Rᵀ·z of a sensor-to-reference transform.
-Eigen::Vector3d upInSensor(const Eigen::Isometry3d& sensor_to_reference);
+// Where up may lie before the scene is looked at.
+enum class UpPrior {
+  // kCamera for an image-like organized cloud or an unorganized one that lies in front of its
+  // origin (every point at z > 0: a camera's optical frame); kZUp otherwise.
+  kAuto,
+  // A camera: the image's top is up, pitched anywhere from 15° above level to straight down,
+  // rolled by at most 35°. The camera's axes come from the cloud's layout when it is an image
+  // (a pinhole fit: each point lies on its pixel's ray), else the optical frame's (x right,
+  // y down, z forward).
+  kCamera,
+  // A LiDAR or a map: up within 45° of the cloud's +z.
+  kZUp,
+};
 
-// Aligned points are stored as float, whose centimetres are gone beyond ~100 km (a pose in
-// UTM map coordinates). They are stored relative to this local origin instead: the sensor's
-// position rounded to a multiple of 1024 m — zero for any pose within 512 m of the reference
-// frame's origin, so ordinary scenes are computed exactly as without it.
-Eigen::Vector3d localOrigin(const Orientation& orientation);
+const char* toString(UpPrior prior);
 
-// Transforms every point into F_r, minus `origin` (see localOrigin). Non-finite input points
-// become NaN so that later stages (and per-point labels) keep the input order. Returns the
-// number of finite points; with `finite_box`, also their bounding box (the grid filter needs
-// it, and this pass has every point at hand). `threads` as Params::threads (0: every core).
-std::size_t alignToGravity(const PointsView& input, const Orientation& orientation,
-                           std::vector<Eigen::Vector3f>& aligned,
-                           const Eigen::Vector3d& origin = Eigen::Vector3d::Zero(),
-                           Eigen::AlignedBox3f* finite_box = nullptr, int threads = 1);
+struct UpEstimate {
+  // The unit up vector in the input cloud's frame.
+  Eigen::Vector3d up_in_sensor = Eigen::Vector3d::UnitZ();
+  // The orientation to extract with. estimate(): the smallest rotation taking up to +z, the
+  // sensor at the origin (heights relative to the sensor, as with a gravity vector). refine():
+  // the given orientation turned about the sensor by `correction_deg` (or unchanged when the
+  // correction was not applied).
+  Orientation orientation = Orientation::identity();
+  // How sure: the level area that fixed up (footprint at cell size, m²), the RMS angle between
+  // its cells' normals and up, how many connected level surfaces and distinct heights it has.
+  double support_area = 0;
+  double angle_spread_deg = 0;
+  int level_surfaces = 0;
+  int level_heights = 0;
+  // The prior that was used, and for a camera its pitch (down positive) and roll, degrees.
+  UpPrior prior = UpPrior::kAuto;
+  double pitch_deg = 0, roll_deg = 0;
+  // refine() only: the angle between the given up and the scene's, the tilt the level
+  // surfaces can tell in that direction (the smallest correction they support), whether the
+  // correction was applied, and why not when it was not.
+  bool refinement = false;
+  double correction_deg = 0;
+  double resolution_deg = 0;
+  bool applied = true;
+  std::string note;
+  double time_ms = 0;
 
-// Whether alignToGravity would copy `input` unchanged: the orientation has no rotation and its
-// translation equals `origin`, and x, y, z are packed float32 at the start of each point. The
-// stages then read the input in place (see AlignedPoints) and only finiteBox() is needed.
-bool alignmentIsIdentity(const PointsView& input, const Orientation& orientation,
-                         const Eigen::Vector3d& origin);
+  // One line: up, support, spread, surfaces (and the correction for a refinement).
+  std::string describe() const;
+};
 
-// The number of finite points of `input` and their box (a point with any non-finite
-// coordinate is skipped), in one read; `threads` as Params::threads. x, y, z must be packed
-// float32 at the start of each point, as alignmentIsIdentity() requires.
-std::size_t finiteBox(const PointsView& input, Eigen::AlignedBox3f& box, int threads = 1);
+// The scene gives no evidence of up (see the file comment). what() says why and names the
+// other orientation sources.
+class LevellingError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 }  // namespace hope

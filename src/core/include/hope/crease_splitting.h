@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "hope/aligned_points.h"
+#include "hope/points_view.h"
 
 namespace hope {
 

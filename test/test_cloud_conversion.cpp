@@ -1,5 +1,7 @@
 // Reading a PointCloud2 in place: every size in the header comes from outside and is checked
 // without overflow, so a hostile message is refused with a reason instead of read out of bounds.
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -8,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hope/extractor.h"
 #include "hope/plane_colors.h"
 #include "hope_ros/cloud_conversion.h"
 #include "hope_ros/frame_gaps.h"
@@ -186,6 +189,34 @@ TEST(CloudConversion, LabeledCloudCarriesEachPointsPlaneColourLabelAndObject) {
 
 // The nodelet refills the message it published last: whatever that message held (another
 // frame's points, another size, stale fields), the result is the fresh message, byte for byte.
+// shape_msgs/Plane in the message: a x + b y + c z + d = 0 holds on the plane's points, and
+// (a, b, c) is the true tilted normal of a table top 0.75 m up, turned 2° about x.
+TEST(CloudConversion, APlaneMessageCarriesItsStandardCoefficients) {
+  const double tilt = 2.0 * M_PI / 180.0;
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  for (double x = -0.5; x <= 0.5; x += 0.01) {
+    for (double y = -0.4; y <= 0.4; y += 0.01) {
+      cloud.push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y),
+                                    static_cast<float>(0.75 + y * std::tan(tilt))));
+    }
+  }
+  hope::Extractor extractor;
+  const hope::Result result = extractor.extract(
+      cloud, hope::Orientation::identity().withViewpoint(Eigen::Vector3d(0, 0, 2)));
+  const hope::PlaneArray msg = hope_ros::toMessage(result, std_msgs::Header());
+  ASSERT_EQ(msg.planes.size(), 1u);
+  const auto& c = msg.planes[0].coef.coef;
+  EXPECT_NEAR(c[0], 0.0, 1e-3);
+  EXPECT_NEAR(c[1], -std::sin(tilt), 1e-3);
+  EXPECT_NEAR(c[2], std::cos(tilt), 1e-3);
+  EXPECT_NEAR(c[3], -0.75 * std::cos(tilt), 1e-3);
+  double worst = 0;
+  for (const pcl::PointXYZ& q : cloud) {
+    worst = std::max(worst, std::abs(c[0] * q.x + c[1] * q.y + c[2] * q.z + c[3]));
+  }
+  EXPECT_LT(worst, 1e-4) << "the coefficients hold on every point of the plane";
+}
+
 TEST(CloudConversion, RefilledLabeledCloudEqualsAFreshOne) {
   const std::vector<Eigen::Vector3f> aligned = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5f}};
   hope::Result result;

@@ -109,6 +109,8 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
     m.normal.x = p.normal.x();
     m.normal.y = p.normal.y();
     m.normal.z = p.normal.z();
+    // a x + b y + c z + d = 0 through the centroid: d = -n . centroid.
+    m.coef.coef = {p.normal.x(), p.normal.y(), p.normal.z(), -p.normal.dot(p.centroid)};
     m.tilt = p.tilt;
     m.area = p.area;
     m.num_points = static_cast<std::uint32_t>(p.num_points);

@@ -29,11 +29,13 @@ hope::ObjectArray toMessage(const std::vector<hope::StandingObject>& objects,
     hope::Object m;
     m.index = o.index;
     m.plane_id = o.plane_id;
-    m.center.position = point(o.box_centre);
-    m.center.orientation = aboutZ(o.yaw);
-    m.size.x = o.box_size.x();
-    m.size.y = o.box_size.y();
-    m.size.z = o.box_size.z();
+    m.pose.position = point(o.box_centre);
+    m.pose.orientation = aboutZ(o.yaw);
+    m.box.type = shape_msgs::SolidPrimitive::BOX;
+    m.box.dimensions.resize(3);
+    m.box.dimensions[shape_msgs::SolidPrimitive::BOX_X] = o.box_size.x();
+    m.box.dimensions[shape_msgs::SolidPrimitive::BOX_Y] = o.box_size.y();
+    m.box.dimensions[shape_msgs::SolidPrimitive::BOX_Z] = o.box_size.z();
     m.centroid = point(o.centroid);
     m.footprint.points.reserve(o.footprint.size());
     for (const Eigen::Vector3d& p : o.footprint) m.footprint.points.push_back(point32(p));

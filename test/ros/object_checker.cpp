@@ -28,6 +28,12 @@ namespace {
 constexpr double kTableZ = 0.75, kTableX0 = 1.3, kTableX1 = 2.2, kTableY0 = -0.9, kTableY1 = 0.1;
 
 // What stands on the table in demoRoom(), by the primitives that make it.
+// An object's box height (BOX_Z of its SolidPrimitive); the message must carry a box.
+double boxHeight(const hope::Object& o) {
+  EXPECT_EQ(o.box.type, shape_msgs::SolidPrimitive::BOX);
+  return o.box.dimensions.at(shape_msgs::SolidPrimitive::BOX_Z);
+}
+
 struct Expected {
   const char* name;
   double x, y;  // centre of its footprint
@@ -171,12 +177,13 @@ TEST(HopeObjects, ObjectsAndPlacementsMatchTheScene) {
       for (const Expected& e : kOnTheTable) {
         int matches = 0;
         for (const hope::Object& o : frame.objects) {
-          const double base = o.center.position.z - 0.5 * o.size.z;
+          const double box_height = boxHeight(o);
+          const double base = o.pose.position.z - 0.5 * box_height;
           if (std::abs(base - kTableZ) > 0.02) continue;  // not standing on the table
-          if (std::hypot(o.center.position.x - e.x, o.center.position.y - e.y) > 0.05) continue;
+          if (std::hypot(o.pose.position.x - e.x, o.pose.position.y - e.y) > 0.05) continue;
           ++matches;
-          EXPECT_NEAR(o.size.z, e.height, 0.015) << e.name << " at " << frame.header.stamp;
-          EXPECT_NEAR(o.height, o.size.z, 1e-6) << e.name;
+          EXPECT_NEAR(box_height, e.height, 0.015) << e.name << " at " << frame.header.stamp;
+          EXPECT_NEAR(o.height, box_height, 1e-6) << e.name;
           EXPECT_GE(o.footprint.points.size(), 3u) << e.name;
         }
         EXPECT_EQ(matches, 1) << e.name << " found " << matches << " times at "
@@ -185,9 +192,9 @@ TEST(HopeObjects, ObjectsAndPlacementsMatchTheScene) {
       // Everything standing on the table stands over it (within the 15 cm an object may
       // overhang), and is one of the three.
       for (const hope::Object& o : frame.objects) {
-        const double base = o.center.position.z - 0.5 * o.size.z;
+        const double base = o.pose.position.z - 0.5 * boxHeight(o);
         if (std::abs(base - kTableZ) > 0.02) continue;
-        const double x = o.center.position.x, y = o.center.position.y;
+        const double x = o.pose.position.x, y = o.pose.position.y;
         EXPECT_TRUE(x > kTableX0 - 0.15 && x < kTableX1 + 0.15 && y > kTableY0 - 0.15 &&
                     y < kTableY1 + 0.15)
             << "object " << o.index << " at (" << x << ", " << y << ") is off the table";

@@ -81,6 +81,17 @@ TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
         EXPECT_EQ(o.plane_id, frame.result.planes[o.plane_index].id)
             << "an object names its plane's persistent id";
       }
+      // Each plane's surface is a plane of this frame at its height (within r_z), the largest.
+      for (const HorizontalPlane& p : frame.result.planes) {
+        int named = 0;
+        for (const HorizontalPlane& q : frame.result.planes) {
+          if (q.id != p.surface_id) continue;
+          ++named;
+          EXPECT_LE(std::abs(q.height - p.height), options.extraction.r_z);
+          EXPECT_GE(q.area, p.area);
+        }
+        EXPECT_EQ(named, 1) << "plane " << p.id << "'s surface " << p.surface_id;
+      }
     }
     EXPECT_EQ(floor_ids.size(), 1u) << toString(identity) << ": one id for the floor";
     EXPECT_FALSE(floor_ids.count(-1)) << toString(identity) << ": the floor is in every frame";

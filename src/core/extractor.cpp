@@ -182,6 +182,8 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
     describeWhatStands(result, object_params, viewpoint);
   }
   result.timings.objects_ms = stage.lap();
+  // Each plane its own surface; FramePipeline groups the pieces of one (surface_grouping.h).
+  for (HorizontalPlane& plane : result.planes) plane.surface_id = plane.id;
   result.timings.total_ms = total.lap();
   return result;
 }

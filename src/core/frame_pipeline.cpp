@@ -10,6 +10,7 @@
 #include "hope/gravity_alignment.h"
 #include "hope/placement.h"
 #include "hope/standing_objects.h"
+#include "hope/surface_grouping.h"
 #include "hope/up_estimation.h"
 
 namespace hope {
@@ -288,6 +289,7 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   }
   frame.identity_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  assignSurfaceIds(frame.result.planes, options_.extraction.r_z);
   // The objects were found under the frame's own plane indices; the planes (in the same order)
   // now carry their persistent ids.
   for (StandingObject& o : frame.result.objects) {

@@ -560,6 +560,7 @@ py::dict planeDict(const hope::HorizontalPlane& p) {
   d["age"] = p.age;
   d["last_seen"] = p.last_seen;
   d["split_from"] = p.split_from;
+  d["surface_id"] = p.surface_id;
   d["hull"] = rows(p.hull);
   d["outline"] = outlineOf(p);
   return d;
@@ -740,6 +741,8 @@ PYBIND11_MODULE(_hope, m) {
       .def_readonly("age", &hope::HorizontalPlane::age)
       .def_readonly("last_seen", &hope::HorizontalPlane::last_seen)
       .def_readonly("split_from", &hope::HorizontalPlane::split_from)
+      .def_readonly("surface_id", &hope::HorizontalPlane::surface_id,
+                    "the surface it is a piece of: pieces of one surface in a frame share it")
       .def("to_dict", &planeDict, "every field of hope_extract's JSON output")
       .def("__repr__", &planeRepr);
 

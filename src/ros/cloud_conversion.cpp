@@ -100,6 +100,7 @@ hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& h
     m.age = p.age;
     m.last_seen = header.stamp;
     m.split_from = p.split_from;
+    m.surface_id = p.surface_id;
     m.height = p.height;
     m.x_min = p.bbox[0];
     m.y_min = p.bbox[1];

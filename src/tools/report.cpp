@@ -133,7 +133,8 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
       << ", \"num_voxels\": " << p.num_voxels << ", \"num_parts\": " << p.num_parts
       << ", \"facing\": \"" << toString(p.facing) << "\""
       << ", \"age\": " << p.age << ", \"last_seen\": " << number(p.last_seen, 17)
-      << ", \"split_from\": " << p.split_from << ", \"hull\": [";
+      << ", \"split_from\": " << p.split_from << ", \"surface_id\": " << p.surface_id
+      << ", \"hull\": [";
   for (std::size_t h = 0; h < p.hull.size(); ++h) out << (h ? ", " : "") << vec3(p.hull[h]);
   out << "], \"outline\": [";
   for (std::size_t r = 0; r < p.outline.size(); ++r) {

@@ -122,7 +122,8 @@ def mosd_objects():
 # the scene alone (--orientation-source scene), both scored through the true poses.
 ID_MODES = {'poses': [], 'improved': ['--tracking', 'improved'],
             'accel': ['--accelerometer', '{dir}/accelerometer.txt'],
-            'level': ['--orientation-source', 'scene']}
+            'level': ['--orientation-source', 'scene'],
+            'rotation': ['--groundtruth', '{rotation}']}
 ID_FIGURES = ['idf1', 'idf1_area', 'ids_per_surface']
 
 
@@ -136,8 +137,15 @@ def identities(sequence, mode):
         return {name: SKIPPED for name in names}
     with tempfile.TemporaryDirectory() as tmp:
         jsonl = os.path.join(tmp, 'run.jsonl')
+        # rotation: the true poses with their position zeroed, an orientation written as poses.
+        rotation = os.path.join(tmp, 'rotation_only.txt')
+        with open(os.path.join(folder, 'groundtruth.txt')) as f, open(rotation, 'w') as out:
+            for line in f:
+                fields = line.split()
+                if len(fields) == 8 and not line.startswith('#'):
+                    out.write(' '.join([fields[0], '0', '0', '0'] + fields[4:]) + '\n')
         run([os.path.join(BIN, 'hope_extract'), '--sequence', folder, '--jsonl', jsonl, '--quiet']
-            + [a.format(dir=folder) for a in ID_MODES[mode]], timeout=900)
+            + [a.format(dir=folder, rotation=rotation) for a in ID_MODES[mode]], timeout=900)
         score = [sys.executable, accuracy, jsonl] + (
             ['--world'] if mode in ('poses', 'improved') else ['--poses', os.path.join(folder, 'groundtruth.txt')])
         out = run(score)

@@ -219,6 +219,38 @@ TEST_F(Sequence, FramesWithoutAnOrientationAreSkippedAndCounted) {
   }
 }
 
+// Poses whose position never changes are an orientation only: the tracker keeps the ids by
+// default (the map would need a fixed frame), and asking for the map anyway is warned about.
+TEST_F(Sequence, PosesThatNeverMoveGetTheTrackerNotTheMap) {
+  makeTumSequence();
+  std::istringstream all(slurp(dir_ + "/seq/groundtruth.txt"));
+  std::ofstream turned(dir_ + "/rotation_only.txt");
+  for (std::string line; std::getline(all, line);) {
+    std::istringstream fields(line);
+    std::string stamp, tx, ty, tz, rest;
+    if (line[0] == '#' || !(fields >> stamp >> tx >> ty >> tz)) continue;
+    std::getline(fields, rest);
+    turned << stamp << " 0 0 0" << rest << "\n";
+  }
+  turned.close();
+  const std::string base = "--sequence " + dir_ + "/seq " + intrinsics_ + " --groundtruth " + dir_ +
+                           "/rotation_only.txt --quiet";
+  CliRun r = run(base);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(TUM RGB-D, improved tracking)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("position never changes"), std::string::npos) << r.output;
+  r = run(base + " --tracking map");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(TUM RGB-D, map tracking)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warning: the poses' position never changes"), std::string::npos)
+      << r.output;
+  // The folder's own poses move: the map, with no word about it.
+  r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(TUM RGB-D, map tracking)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("position never changes"), std::string::npos) << r.output;
+}
+
 TEST_F(Sequence, PcdFolderNamedByTimestamp) {
   // Three clouds of a table top at 0.7 m and a floor, named by stamp, poses by stamp.
   std::ofstream gt(dir_ + "/groundtruth.txt");

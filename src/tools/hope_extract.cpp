@@ -529,6 +529,17 @@ void writeFrameLine(std::ostream& jsonl, const std::string& file, const hope::Fr
   jsonl << "]}\n";
 }
 
+// Whether any frame's position (its pose's translation) is more than 1 mm from the first's.
+bool positionsChange(const std::vector<hope::tools::SequenceFrame>& frames) {
+  if (frames.empty()) return true;  // nothing to judge: the folder says why elsewhere
+  for (const hope::tools::SequenceFrame& frame : frames) {
+    const Eigen::Vector3d moved = frame.orientation.sensorToReference().translation() -
+                                  frames.front().orientation.sensorToReference().translation();
+    if (moved.norm() > 1e-3) return true;
+  }
+  return false;
+}
+
 int runSequence(const Options& o) {
   const SequencePlan plan = sequencePlan(o);
   const hope::tools::SequenceOptions& seq = plan.listing;
@@ -543,7 +554,7 @@ int runSequence(const Options& o) {
   const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
   if (!o.values.count("--tracking") && fixed_frame)
     pipeline_options.identity = hope::Identity::kMap;
-  const std::string tracking = hope::toString(pipeline_options.identity);
+  std::string tracking = hope::toString(pipeline_options.identity);
   const bool use_map = pipeline_options.identity == hope::Identity::kMap;
   if (use_map && !fixed_frame) {
     throw std::invalid_argument(
@@ -575,6 +586,27 @@ int runSequence(const Options& o) {
   const std::uint64_t max_points = maxPoints(o);
 
   const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
+  // Poses whose position never changes are an orientation written as poses (or a camera that
+  // only turns): they cannot put a moving camera's surfaces in one fixed frame, and the map
+  // would take every surface seen from a new place for a new one. The tracker by default; a
+  // warning when the map was asked for (or its outputs were).
+  if (fixed_frame && use_map && !positionsChange(listing.frames)) {
+    if (!o.values.count("--tracking") && !map_file && !extents) {
+      pipeline.setOptions([&] {
+        hope::PipelineOptions tracker = pipeline.options();
+        tracker.identity = hope::Identity::kImproved;
+        return tracker;
+      }());
+      tracking = hope::toString(hope::Identity::kImproved);
+      std::cerr << "hope_extract: the poses' position never changes (an orientation only): the "
+                   "improved tracker keeps the ids, not the surface map, which needs poses in a "
+                   "fixed frame\n";
+    } else {
+      std::cerr << "hope_extract: warning: the poses' position never changes (an orientation "
+                   "only?): the surface map needs poses in a fixed frame; if the camera moved, "
+                   "its ids will not hold (--tracking improved)\n";
+    }
+  }
   const bool depth_frames = listing.layout == "TUM RGB-D";
   if (!depth_frames && (o.values.count("--intrinsics") || o.values.count("--depth-scale"))) {
     throw std::invalid_argument("--intrinsics and --depth-scale are for depth images; '" + seq.dir +

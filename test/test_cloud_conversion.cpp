@@ -9,6 +9,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <pcl_conversions/pcl_conversions.h>
 
 #include "hope/extractor.h"
 #include "hope/plane_colors.h"
@@ -215,6 +216,42 @@ TEST(CloudConversion, APlaneMessageCarriesItsStandardCoefficients) {
     worst = std::max(worst, std::abs(c[0] * q.x + c[1] * q.y + c[2] * q.z + c[3]));
   }
   EXPECT_LT(worst, 1e-4) << "the coefficients hold on every point of the plane";
+}
+
+// ~obstacles' cloud: the chosen points in the input's own frame, x y z and the input's rgb.
+TEST(CloudConversion, SelectedPointsKeepTheirCoordinatesColourAndOrder) {
+  pcl::PointCloud<pcl::PointXYZRGB> cloud(2, 2);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    cloud[i].x = static_cast<float>(i);
+    cloud[i].y = 10.0f + static_cast<float>(i);
+    cloud[i].z = 20.0f + static_cast<float>(i);
+    cloud[i].r = static_cast<std::uint8_t>(50 * i);
+  }
+  sensor_msgs::PointCloud2 input;
+  pcl::toROSMsg(cloud, input);
+  input.header.frame_id = "camera";
+  const sensor_msgs::PointCloud2 out = hope_ros::selectedPoints(input, {3, 1});
+  EXPECT_EQ(out.header.frame_id, "camera");
+  ASSERT_EQ(out.width, 2u);
+  ASSERT_EQ(out.height, 1u);
+  ASSERT_EQ(out.fields.size(), 4u);
+  EXPECT_EQ(out.fields[3].name, "rgb");
+  EXPECT_EQ(out.point_step, 16u);
+  pcl::PointCloud<pcl::PointXYZRGB> back;
+  pcl::fromROSMsg(out, back);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0].x, 3.0f);
+  EXPECT_EQ(back[0].z, 23.0f);
+  EXPECT_EQ(back[0].r, 150);
+  EXPECT_EQ(back[1].y, 11.0f);
+  EXPECT_EQ(back[1].r, 50);
+  // Without colour: x y z only.
+  const sensor_msgs::PointCloud2 plain = hope_ros::selectedPoints(twoPoints(), {1});
+  ASSERT_EQ(plain.fields.size(), 3u);
+  EXPECT_EQ(plain.point_step, 12u);
+  float z;
+  std::memcpy(&z, plain.data.data() + 8, 4);
+  EXPECT_EQ(z, 6.0f);
 }
 
 TEST(CloudConversion, RefilledLabeledCloudEqualsAFreshOne) {

@@ -103,6 +103,54 @@ TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
   }
 }
 
+// ~obstacles' points against the scene's truth: every point of a thing standing on the floor
+// between 5 cm and 2 m up (the world's z, the floor at 0) and nothing else, over a pan.
+TEST(FramePipeline, ObstaclesAreTheThingsBetweenTheBandsHeightsAboveTheFloor) {
+  const std::vector<RenderedCloud> frames = renderPan(4, 320);
+  FramePipeline pipeline;
+  const PipelineOptions& o = pipeline.options();
+  FrameOutputs outputs;
+  outputs.obstacles = true;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const RenderedCloud& r = frames[f];
+    // A reference frame whose origin is not on the floor: the floor's height must be found.
+    const Eigen::Isometry3d reference = Eigen::Translation3d(0.3, -0.2, 1.3) * r.camera.pose;
+    const Frame frame = pipeline.process(PointsView::of(r.cloud), f / 30.0,
+                                         Orientation::fromTransform(reference), outputs);
+    ASSERT_TRUE(frame.processed);
+    ASSERT_GE(frame.floor_index, 0);
+    EXPECT_EQ(frame.result.planes[frame.floor_index].id, idOfSurface(frame, r.truth, 0))
+        << "the floor is the plane of the floor";
+    std::vector<std::uint8_t> found(r.cloud.size(), 0);
+    for (std::uint32_t i : frame.obstacles) found[i] = 1;
+    std::size_t truth = 0, hits = 0;
+    for (std::size_t i = 0; i < r.cloud.size(); ++i) {
+      if (!r.cloud[i].getVector3fMap().allFinite()) continue;
+      const double z = (r.camera.pose * r.cloud[i].getVector3fMap().cast<double>()).z();
+      const bool obstacle =
+          r.truth[i] != 0 && z > o.obstacle_min_height && z <= o.obstacle_max_height;
+      truth += obstacle;
+      hits += obstacle && found[i];
+    }
+    ASSERT_GT(truth, 1000u) << "frame " << f << " sees the table and the boxes";
+    EXPECT_GE(static_cast<double>(hits), 0.99 * truth) << "recall, frame " << f;
+    EXPECT_GE(static_cast<double>(hits), 0.99 * frame.obstacles.size()) << "precision, frame " << f;
+  }
+  // A band from 0.5 m (live, between frames): the stair block (0.17 and 0.34 m) leaves it, the
+  // table's legs above 0.5 m and its top stay.
+  PipelineOptions higher = pipeline.options();
+  higher.obstacle_min_height = 0.5;
+  pipeline.setOptions(higher);
+  const RenderedCloud& r = frames[0];
+  const Frame frame = pipeline.process(PointsView::of(r.cloud), 1.0,
+                                       Orientation::fromTransform(r.camera.pose), outputs);
+  ASSERT_FALSE(frame.obstacles.empty());
+  for (std::uint32_t i : frame.obstacles) {
+    const double z = (r.camera.pose * r.cloud[i].getVector3fMap().cast<double>()).z();
+    EXPECT_GT(z, 0.5 - 1e-3);
+  }
+}
+
 TEST(FramePipeline, AnAccelerometerIsAveragedOverItsWindowOfSeconds) {
   const std::vector<RenderedCloud> frames = renderPan(2, 160);
   const synthetic::Camera& camera = frames[0].camera;

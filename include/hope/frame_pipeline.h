@@ -81,6 +81,11 @@ struct PipelineOptions {
   // sensor: on studyroom_dev (30 Hz, turning) 0.33 s cost 14 points of area-weighted IDF1
   // (docs/quality.md).
   double gravity_window_s = 0.1;
+  // Obstacles (FrameOutputs::obstacles): the points more than obstacle_min_height and at most
+  // obstacle_max_height above the floor under them, metres: above the floor's noise and a
+  // threshold a robot drives over, below a ceiling it passes under.
+  double obstacle_min_height = 0.05;
+  double obstacle_max_height = 2.0;
 };
 
 // Throws std::invalid_argument naming the option and its range (the extraction's, the
@@ -95,6 +100,8 @@ struct FrameOutputs {
   // Keep the frame's aligned points (Frame::points, 12 bytes a point): findPlacements() answers
   // on the frame later from them, an overlay draws them. Point labels are made too.
   bool keep_points = false;
+  // Frame::obstacles and Frame::floor_index: one pass over the points.
+  bool obstacles = false;
 };
 
 struct Frame {
@@ -118,6 +125,11 @@ struct Frame {
   // FrameOutputs::keep_points: the points in the reference frame less Result::local_origin, one
   // per input point, in input order (findPlacements() reads them).
   std::vector<Eigen::Vector3f> points;
+  // FrameOutputs::obstacles: the floor (the lowest plane seen from above with at least
+  // 0.25 m², an index into result.planes; -1: none in view, and then no obstacles), and the
+  // input indices of the points between PipelineOptions' obstacle heights above it, in order.
+  int floor_index = -1;
+  std::vector<std::uint32_t> obstacles;
   // Milliseconds spent giving the planes their ids (the tracker's or the map's update).
   double identity_ms = 0;
 };

@@ -27,6 +27,12 @@ std::string viewOf(const sensor_msgs::PointCloud2& cloud, hope::PointsView& view
 sensor_msgs::PointCloud2 cloudMessage(const pcl::PointCloud<pcl::PointXYZ>& cloud,
                                       const std_msgs::Header& header);
 
+// The points of `cloud` at `indices` (a cloud viewOf reads; indices below its size), in its own
+// frame and stamp: float32 x y z, and rgb when the cloud has a 4-byte rgb or rgba field, one row
+// (the ~obstacles cloud). 12 or 16 bytes a point.
+sensor_msgs::PointCloud2 selectedPoints(const sensor_msgs::PointCloud2& cloud,
+                                        const std::vector<std::uint32_t>& indices);
+
 // The planes as a message with `header` (the reference frame and the cloud's stamp).
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);
 

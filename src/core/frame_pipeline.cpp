@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "hope/gravity_alignment.h"
+#include "hope/obstacle_points.h"
 #include "hope/placement.h"
 #include "hope/standing_objects.h"
 #include "hope/surface_grouping.h"
@@ -84,6 +85,15 @@ void validate(const PipelineOptions& options) {
   if (!(options.gravity_window_s >= 0 && options.gravity_window_s <= 60)) {
     throw std::invalid_argument("gravity_window_s must be in [0, 60] seconds (got " +
                                 std::to_string(options.gravity_window_s) + ")");
+  }
+  // Ranges that meet at 1 m: the band is never empty.
+  if (!(options.obstacle_min_height >= 0 && options.obstacle_min_height <= 1)) {
+    throw std::invalid_argument("obstacle_min_height must be in [0, 1] m (got " +
+                                std::to_string(options.obstacle_min_height) + ")");
+  }
+  if (!(options.obstacle_max_height > 1 && options.obstacle_max_height <= 100)) {
+    throw std::invalid_argument("obstacle_max_height must be in (1, 100] m (got " +
+                                std::to_string(options.obstacle_max_height) + ")");
   }
 }
 
@@ -294,6 +304,14 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   // now carry their persistent ids.
   for (StandingObject& o : frame.result.objects) {
     o.plane_id = frame.result.planes[o.plane_index].id;
+  }
+  if (outputs.obstacles) {
+    if (const std::optional<std::size_t> floor = findFloor(frame.result.planes)) {
+      frame.floor_index = static_cast<int>(*floor);
+      frame.obstacles = obstaclePoints(extractor_.alignedPoints(), frame.result.local_origin,
+                                       frame.result.planes[*floor], options_.obstacle_min_height,
+                                       options_.obstacle_max_height);
+    }
   }
   if (outputs.keep_points) {
     const AlignedPoints points = extractor_.alignedPoints();

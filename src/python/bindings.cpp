@@ -49,6 +49,10 @@ struct ExtractionResult {
   std::string skipped;
   bool level_held = false, time_jump = false;
   std::shared_ptr<const hope::Frame> frame;
+  // Pipeline.process(obstacles=True): the input indices of the obstacle points (uint32), and
+  // the floor's plane id (-1: none in view).
+  py::object obstacles = py::none();
+  int floor_id = -1;
 };
 
 std::string shapeText(const py::array& array) {
@@ -326,7 +330,7 @@ class PyPipeline {
   ExtractionResult process(const py::array& points, double stamp, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
                            const py::object& transform, const py::object& viewpoint,
-                           bool placements) {
+                           bool placements, bool obstacles) {
     std::optional<Eigen::Vector3d> force;
     hope::Orientation given = hope::Orientation::identity();
     if (!gravity.is_none()) {
@@ -348,6 +352,7 @@ class PyPipeline {
     }
     hope::FrameOutputs outputs;
     outputs.keep_points = placements;
+    outputs.obstacles = obstacles;
     py::array converted;
     const hope::PointsView view = pointsOf(points, converted);
     auto frame = std::make_shared<hope::Frame>();
@@ -382,6 +387,11 @@ class PyPipeline {
       out.object_labels = ownedArray(std::move(out.result.point_objects), shape);
     }
     out.result.point_objects.clear();
+    if (obstacles) {
+      if (frame->floor_index >= 0) out.floor_id = frame->result.planes[frame->floor_index].id;
+      out.obstacles = ownedArray(std::vector<std::uint32_t>(frame->obstacles),
+                                 {static_cast<py::ssize_t>(frame->obstacles.size())});
+    }
     if (placements) out.frame = std::move(frame);
     return out;
   }
@@ -792,6 +802,12 @@ PYBIND11_MODULE(_hope, m) {
                     "Pipeline.process: nothing level in view, the last up held")
       .def_readonly("time_jump", &ExtractionResult::time_jump,
                     "Pipeline.process: the stamp went back; tracks started afresh")
+      .def_readonly("obstacles", &ExtractionResult::obstacles,
+                    "Pipeline.process(obstacles=True): the indices (uint32, into the points "
+                    "flattened) of the points between obstacle_min_height and "
+                    "obstacle_max_height above the floor, else None")
+      .def_readonly("floor_id", &ExtractionResult::floor_id,
+                    "Pipeline.process(obstacles=True): the floor's plane id, -1 for none")
       .def(
           "to_dict",
           [](const ExtractionResult& r) {
@@ -959,11 +975,13 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("gravity") = py::none(), py::arg("quaternion") = py::none(),
            py::arg("pose") = py::none(), py::arg("transform") = py::none(),
            py::arg("viewpoint") = py::none(), py::arg("placements") = false,
+           py::arg("obstacles") = false,
            "One frame (stamp in seconds). Orientation: at most one of gravity (an accelerometer "
            "sample in m/s², sensor frame, averaged over gravity_window_s seconds), quaternion, "
            "pose or transform (4 x 4); with levelling='estimate' none. Returns an "
            "ExtractionResult with persistent ids, objects, events; skipped is set when the frame "
-           "was skipped. placements=True keeps the frame's points for place().")
+           "was skipped. placements=True keeps the frame's points for place(); obstacles=True "
+           "gives result.obstacles (see Pipeline's obstacle_min_height, obstacle_max_height).")
       .def("place", &PyPipeline::place, py::arg("result"), py::arg("width"), py::arg("depth"),
            py::arg("clearance") = hope::Footprint().clearance, py::arg("plane_id") = py::none(),
            py::arg("max_results") = 5,

@@ -90,6 +90,56 @@ sensor_msgs::PointCloud2 cloudMessage(const pcl::PointCloud<pcl::PointXYZ>& clou
   return msg;
 }
 
+sensor_msgs::PointCloud2 selectedPoints(const sensor_msgs::PointCloud2& cloud,
+                                        const std::vector<std::uint32_t>& indices) {
+  const sensor_msgs::PointField* colour = nullptr;
+  std::uint32_t x = 0, y = 0, z = 0;
+  for (const sensor_msgs::PointField& f : cloud.fields) {
+    if (f.name == "x") x = f.offset;
+    if (f.name == "y") y = f.offset;
+    if (f.name == "z") z = f.offset;
+    const bool four_bytes = f.datatype == sensor_msgs::PointField::FLOAT32 ||
+                            f.datatype == sensor_msgs::PointField::UINT32;
+    if ((f.name == "rgb" || f.name == "rgba") && four_bytes && f.count == 1) colour = &f;
+  }
+  sensor_msgs::PointCloud2 out;
+  out.header = cloud.header;
+  out.height = 1;
+  out.width = static_cast<std::uint32_t>(indices.size());
+  out.is_bigendian = false;
+  out.is_dense = true;  // non-finite points are never selected
+  std::uint32_t offset = 0;
+  for (const char* name : {"x", "y", "z"}) {
+    sensor_msgs::PointField f;
+    f.name = name;
+    f.offset = offset;
+    f.datatype = sensor_msgs::PointField::FLOAT32;
+    f.count = 1;
+    out.fields.push_back(f);
+    offset += 4;
+  }
+  if (colour) {
+    sensor_msgs::PointField f = *colour;
+    f.offset = offset;
+    out.fields.push_back(f);
+    offset += 4;
+  }
+  out.point_step = offset;
+  out.row_step = out.point_step * out.width;
+  out.data.resize(out.row_step);
+  // viewOf refuses padded rows: point i starts i · point_step bytes in.
+  std::uint8_t* to = out.data.data();
+  for (std::uint32_t i : indices) {
+    const std::uint8_t* from = cloud.data.data() + std::size_t{i} * cloud.point_step;
+    std::memcpy(to, from + x, 4);
+    std::memcpy(to + 4, from + y, 4);
+    std::memcpy(to + 8, from + z, 4);
+    if (colour) std::memcpy(to + 12, from + colour->offset, 4);
+    to += out.point_step;
+  }
+  return out;
+}
+
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header) {
   hope::PlaneArray msg;
   msg.header = header;

@@ -177,6 +177,9 @@ hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
                        ": " + e.what());
   }
   result.objects = config.objects;
+  // The slider ranges lie within what the pipeline accepts ([0, 1] and (1, 100] m).
+  result.obstacle_min_height = config.obstacle_min_height;
+  result.obstacle_max_height = config.obstacle_max_height;
   return result;
 }
 
@@ -194,6 +197,8 @@ void writeConfig(const hope::PipelineOptions& options, hope::HopeConfig& config)
   config.tracking_mode = hope::toString(options.identity);
   config.object_max_height = options.object_params.max_height;
   config.objects = options.objects;
+  config.obstacle_min_height = options.obstacle_min_height;
+  config.obstacle_max_height = options.obstacle_max_height;
 }
 
 std::string describe(const hope::PipelineOptions& options) {
@@ -202,11 +207,12 @@ std::string describe(const hope::PipelineOptions& options) {
   std::snprintf(text, sizeof(text),
                 "r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, fragment merge %s (gap "
                 "<= %g m), scan-gap bridging %s, tracking %s, %d thread(s), objects %s (up to "
-                "%g m)",
+                "%g m), obstacles %g-%g m above the floor",
                 p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area,
                 p.merge_fragments ? "on" : "off", p.max_merge_gap,
                 p.bridge_scan_gaps ? "on" : "off", hope::toString(options.identity), p.threads,
-                options.objects ? "on" : "off", options.object_params.max_height);
+                options.objects ? "on" : "off", options.object_params.max_height,
+                options.obstacle_min_height, options.obstacle_max_height);
   return text;
 }
 

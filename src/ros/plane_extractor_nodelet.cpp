@@ -65,6 +65,7 @@ void PlaneExtractorNodelet::onInit() {
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("labeled_cloud", 3, changed, changed);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 10, changed, changed);
     objects_pub_ = pnh.advertise<hope::ObjectArray>("objects", 10, changed, changed);
+    obstacles_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("obstacles", 3, changed, changed);
   }
   placement_srv_ =
       pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
@@ -85,7 +86,8 @@ void PlaneExtractorNodelet::connectionChanged() {
   std::lock_guard<std::mutex> lock(connection_mutex_);
   const bool wanted = !settings_.lazy || planes_pub_.getNumSubscribers() > 0 ||
                       cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
-                      objects_pub_.getNumSubscribers() > 0;
+                      objects_pub_.getNumSubscribers() > 0 ||
+                      obstacles_pub_.getNumSubscribers() > 0;
   if (wanted == subscribed_) return;
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   const int queue = settings_.cloud_queue;
@@ -216,7 +218,9 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   const bool publish_cloud = cloud_pub_.getNumSubscribers() > 0;
   const bool publish_markers = markers_pub_.getNumSubscribers() > 0;
   const bool publish_objects = objects_pub_.getNumSubscribers() > 0;
+  const bool publish_obstacles = obstacles_pub_.getNumSubscribers() > 0;
   hope::FrameOutputs outputs;
+  outputs.obstacles = publish_obstacles;
   outputs.keep_points = placements_ || publish_cloud;
   outputs.point_labels = publish_cloud || placements_;
   outputs.objects = publish_objects || publish_markers || publish_cloud;
@@ -256,6 +260,16 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   }
   if (publish_objects && pipeline_->options().objects) {
     objects_pub_.publish(boost::make_shared<hope::ObjectArray>(toMessage(result.objects, header)));
+  }
+  if (publish_obstacles) {
+    // In the cloud's own frame: a costmap or an octomap takes it as it takes the cloud.
+    obstacles_pub_.publish(
+        boost::make_shared<sensor_msgs::PointCloud2>(selectedPoints(*cloud, frame.obstacles)));
+    if (frame.floor_index < 0) {
+      NODELET_WARN_THROTTLE(30.0,
+                            "hope: no floor in view (a level surface of 0.25 m² or more "
+                            "seen from above): ~obstacles is empty");
+    }
   }
   if (publish_markers) {
     auto markers =

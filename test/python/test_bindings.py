@@ -344,6 +344,24 @@ class ObjectsAndPlacements(unittest.TestCase):
             hope.Extractor().place(0.1, 0.1)
 
 
+class Obstacles(unittest.TestCase):
+    """Pipeline.process(obstacles=True) on ObjectsAndPlacements' table and box: the table is the
+    lowest large level surface, so the obstacles are the box's points more than 5 cm above it."""
+
+    def test_the_box_above_the_band_floor_is_the_obstacle(self):
+        scene = ObjectsAndPlacements
+        scene.setUpClass()
+        pipeline = hope.Pipeline()
+        frame = pipeline.process(scene.points, 0.0, viewpoint=(0.5, 0.4, 2.0), obstacles=True)
+        table = [p for p in frame.planes if abs(p.height - 0.7) < 0.01]
+        self.assertEqual(frame.floor_id, table[0].id)
+        expected = np.flatnonzero(scene.points[:, 2] > 0.7 + 0.05)
+        self.assertGreater(len(expected), 1000)
+        np.testing.assert_array_equal(frame.obstacles, expected)
+        self.assertEqual(frame.obstacles.dtype, np.uint32)
+        self.assertIsNone(pipeline.process(scene.points, 0.1, viewpoint=(0.5, 0.4, 2.0)).obstacles)
+
+
 class BadInput(unittest.TestCase):
     def setUp(self):
         self.extractor = hope.Extractor()

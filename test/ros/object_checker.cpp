@@ -1,7 +1,8 @@
 // The rostest side of objects and placements: while the demo room bag replays with tf (heights
 // and positions in odom, the scene's own frame), checks hope's ~objects, the object boxes in
-// ~markers, the labeled cloud's object field and ~find_placement against the scene's ground
-// truth (hope::synthetic::demoRoom()), then switches both off through dynamic_reconfigure.
+// ~markers, the labeled cloud's object field, ~obstacles and ~find_placement against the
+// scene's ground truth (hope::synthetic::demoRoom()), then switches objects and placements off
+// through dynamic_reconfigure.
 // Parameters (private): hope_ns (/hope), timeout (60 s).
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,11 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
+
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <Eigen/Geometry>
 
 #include "checker_wait.h"
 #include "hope/FindPlacement.h"
@@ -141,6 +147,77 @@ void reconfigure(const std::string& hope_ns, bool objects, bool placements) {
     srv.request.config.bools.push_back(p);
   }
   ASSERT_TRUE(ros::service::call(hope_ns + "/set_parameters", srv)) << "reconfigure failed";
+}
+
+// Points of `cloud` (x y z float32 at the start of each point), their heights in odom.
+std::vector<double> odomHeights(const sensor_msgs::PointCloud2& cloud,
+                                const geometry_msgs::TransformStamped& to_odom) {
+  const Eigen::Isometry3d t = tf2::transformToEigen(to_odom);
+  std::vector<double> heights;
+  for (std::size_t i = 0; i < std::size_t(cloud.width) * cloud.height; ++i) {
+    float xyz[3];
+    std::memcpy(xyz, &cloud.data[i * cloud.point_step], sizeof(xyz));
+    const Eigen::Vector3d p(xyz[0], xyz[1], xyz[2]);
+    if (p.allFinite()) heights.push_back((t * p).z());
+  }
+  return heights;
+}
+
+std::size_t countBetween(const std::vector<double>& heights, double low, double high) {
+  return std::count_if(heights.begin(), heights.end(),
+                       [&](double z) { return z > low && z <= high; });
+}
+
+// ~obstacles against the demo room (its floor at z = 0 in odom): the input's points between
+// 5 cm and 2 m above the floor, all of them and nothing else (1 cm either side of each bound is
+// left to the floor's estimate and the depth noise), in the cloud's own frame.
+TEST(HopeObjects, ObstaclesAreTheRoomsPointsInTheBandAboveItsFloor) {
+  ros::NodeHandle nh, pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  std::mutex mutex;
+  std::map<double, sensor_msgs::PointCloud2::ConstPtr> inputs, obstacles;
+  auto keep = [&](std::map<double, sensor_msgs::PointCloud2::ConstPtr>& into) {
+    return boost::function<void(const sensor_msgs::PointCloud2::ConstPtr&)>(
+        [&](const sensor_msgs::PointCloud2::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex);
+          into[m->header.stamp.toSec()] = m;
+        });
+  };
+  ros::Subscriber obstacles_sub =
+      nh.subscribe<sensor_msgs::PointCloud2>(hope_ns + "/obstacles", 5, keep(obstacles));
+  ros::Subscriber input_sub =
+      nh.subscribe<sensor_msgs::PointCloud2>("/camera/depth/points", 5, keep(inputs));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  std::vector<double> matched;
+  ASSERT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        matched.clear();
+        for (const auto& o : obstacles) {
+          if (inputs.count(o.first)) matched.push_back(o.first);
+        }
+        return matched.size() >= 3;
+      },
+      timeout))
+      << "fewer than 3 clouds on " << hope_ns << "/obstacles matching an input";
+  std::lock_guard<std::mutex> lock(mutex);
+  for (double stamp : matched) {
+    const sensor_msgs::PointCloud2& found = *obstacles[stamp];
+    const sensor_msgs::PointCloud2& input = *inputs[stamp];
+    EXPECT_EQ(found.header.frame_id, input.header.frame_id) << "the cloud's own frame";
+    const geometry_msgs::TransformStamped to_odom =
+        tf_buffer.lookupTransform("odom", input.header.frame_id, input.header.stamp);
+    const std::vector<double> all = odomHeights(input, to_odom);
+    const std::vector<double> band = odomHeights(found, to_odom);
+    const std::size_t in_band = countBetween(all, 0.06, 1.99);
+    ASSERT_GT(in_band, 1000u) << "the demo room's things are in view";
+    EXPECT_GE(countBetween(band, 0.06, 1.99), 0.99 * in_band) << "recall at " << stamp;
+    EXPECT_GE(countBetween(band, 0.04, 2.01), 0.99 * band.size()) << "precision at " << stamp;
+  }
 }
 
 TEST(HopeObjects, ObjectsAndPlacementsMatchTheScene) {

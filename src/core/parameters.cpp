@@ -121,11 +121,12 @@ std::vector<ParameterSpec> makeTable() {
                      "gravity alignment (§2.2)", false,
                      "an accelerometer's samples over this long are averaged",
                      [](PipelineOptions& o, double v) { o.gravity_window_s = v; }));
-  t.push_back(number("obstacle_min_height", "", d.obstacle_min_height, 0.0, 1.0, "m", "obstacles",
-                     true, "obstacle points are more than this above the floor under them",
+  t.push_back(number("obstacle_min_height", "--obstacle-min-height", d.obstacle_min_height, 0.0,
+                     1.0, "m", "obstacles", true,
+                     "obstacle points are more than this above the floor under them",
                      [](PipelineOptions& o, double v) { o.obstacle_min_height = v; }));
-  t.push_back(aboveMin(number("obstacle_max_height", "", d.obstacle_max_height, 1.0, 100.0, "m",
-                              "obstacles", true, "and at most this far above it",
+  t.push_back(aboveMin(number("obstacle_max_height", "--obstacle-max-height", d.obstacle_max_height,
+                              1.0, 100.0, "m", "obstacles", true, "and at most this far above it",
                               [](PipelineOptions& o, double v) { o.obstacle_max_height = v; })));
   return t;
 }

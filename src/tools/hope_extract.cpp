@@ -164,6 +164,13 @@ hope::tools::CommandLine commandLine() {
              "x y z label per input point, same order (0 = none, k = id + 1)")
       .value("--overlay", "FILE.png",
              "picture: tinted image for image-like input, top-down view otherwise")
+      .value("--obstacles", "FILE.pcd",
+             "the points more than --obstacle-min-height (default 0.05) and at most "
+             "--obstacle-max-height (default 2) m above the floor under them (the lowest level "
+             "surface of 0.25 m² or more seen from above), x y z (rgb) as read; none without a "
+             "floor")
+      .value("--obstacle-min-height", "M", "see --obstacles")
+      .value("--obstacle-max-height", "M", "see --obstacles")
       .flag("--quiet", "no table on stdout");
   return cl;
 }
@@ -385,8 +392,8 @@ struct SequencePlan {
 // The sequence's options checked against each other and the folder before any frame is read:
 // an option that cannot apply is an error, never silently ignored.
 SequencePlan sequencePlan(const Options& o) {
-  for (const char* single :
-       {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay", "--place"}) {
+  for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay",
+                             "--place", "--obstacles"}) {
     if (o.values.count(single) || o.flag(single)) {
       throw std::invalid_argument(std::string(single) +
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
@@ -786,6 +793,11 @@ int runSequence(const Options& o) {
 }
 
 int run(const Options& o) {
+  for (const char* band : {"--obstacle-min-height", "--obstacle-max-height"}) {
+    if (o.values.count(band) && !o.values.count("--obstacles")) {
+      throw std::invalid_argument(std::string(band) + " goes with --obstacles");
+    }
+  }
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only :
        {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
@@ -827,7 +839,7 @@ int run(const Options& o) {
   // work, so an unwritable one fails at once; all are renamed into place at the end, so a
   // failure leaves none of them behind.
   std::map<std::string, hope::tools::OutputFile> outputs;
-  for (const char* key : {"--json", "--labels", "--overlay"}) {
+  for (const char* key : {"--json", "--labels", "--overlay", "--obstacles"}) {
     if (o.values.count(key)) outputs.emplace(key, hope::tools::OutputFile(o.values.at(key)));
   }
 
@@ -843,8 +855,10 @@ int run(const Options& o) {
   // objects' time saved otherwise; the points kept for placements and the overlay.
   hope::FrameOutputs wanted;
   wanted.point_labels = outputs.count("--labels") || outputs.count("--overlay");
-  wanted.objects = !outputs.empty() || place;
+  wanted.objects =
+      outputs.count("--json") || outputs.count("--labels") || outputs.count("--overlay") || place;
   wanted.keep_points = place || outputs.count("--overlay");
+  wanted.obstacles = outputs.count("--obstacles") > 0;
   hope::Frame frame = pipeline.processAlone(input.view(), pose, wanted);
   if (!frame.processed) throw hope::LevellingError(frame.skipped);
   const std::optional<hope::UpEstimate>& levelled = frame.levelling;
@@ -911,6 +925,13 @@ int run(const Options& o) {
       objects[i] = result.point_objects[i] + 1;
     }
     hope::tools::writeLabels(outputs.at("--labels"), input, labels, objects);
+  }
+  if (outputs.count("--obstacles")) {
+    if (frame.floor_index < 0) {
+      std::cerr << "hope_extract: warning: no floor in view (a level surface of 0.25 m² or more "
+                   "seen from above): --obstacles holds no point\n";
+    }
+    hope::tools::writePoints(outputs.at("--obstacles"), input, frame.obstacles);
   }
   if (outputs.count("--overlay")) {
     hope::tools::writeImage(

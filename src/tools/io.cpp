@@ -150,6 +150,29 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
   if (out.fail()) throwCannotWrite(file.path());
 }
 
+void writePoints(const OutputFile& file, const InputCloud& cloud,
+                 const std::vector<std::uint32_t>& indices) {
+  const bool colour = cloud.hasColor();
+  const std::size_t step = colour ? 16 : 12;
+  errno = 0;
+  std::ofstream out(file.writePath(), std::ios::binary | std::ios::trunc);
+  if (!out) throwCannotWrite(file.path());
+  out << "# .PCD v0.7 - Point Cloud Data file format (hope_extract --obstacles)\nVERSION 0.7\n"
+      << (colour ? "FIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
+                 : "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n")
+      << "WIDTH " << indices.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS "
+      << indices.size() << "\nDATA binary\n";
+  std::vector<std::uint8_t> block(indices.size() * step);
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    std::memcpy(&block[step * k], cloud.points.at(indices[k]).data(), 12);
+    if (colour) std::memcpy(&block[step * k + 12], &cloud.rgb[indices[k]], 4);
+  }
+  out.write(reinterpret_cast<const char*>(block.data()),
+            static_cast<std::streamsize>(block.size()));
+  out.close();
+  if (out.fail()) throwCannotWrite(file.path());
+}
+
 void writeImage(const OutputFile& file, const cv::Mat& image) {
   errno = 0;
   if (!writeImageFile(file.writePath(), image)) throwCannotWrite(file.path());

@@ -162,5 +162,45 @@ class FrontEndParity(unittest.TestCase):
             hope.read_cloud(os.path.join(self.tmp.name, "missing.pcd"))
 
 
+def rotation(qx, qy, qz, qw):
+    """The rotation matrix of a unit quaternion (x, y, z, w)."""
+    return np.array([
+        [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
+        [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
+        [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]])
+
+
+class ObstaclesParity(unittest.TestCase):
+    """hope_extract --obstacles and Pipeline.process(obstacles=True) on the demo room give the
+    same points, and they are the room's points between 5 cm and 2 m above its floor (z = 0 in
+    the pose's world), 1 cm either side of each bound left to the floor's estimate."""
+
+    def test_obstacles_are_the_same_points_and_the_rooms_band(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            room = os.path.join(tmp, "room")
+            subprocess.run([SYNTH, "--out", room], check=True, stdout=subprocess.DEVNULL)
+            with open(os.path.join(room, "pose.txt")) as f:
+                pose = [float(v) for v in f.read().split()]
+            out = os.path.join(tmp, "obstacles.pcd")
+            subprocess.run([EXTRACT, "--depth", os.path.join(room, "depth.png"), "--pose",
+                            " ".join(map(str, pose)), "--obstacles", out, "--quiet"], check=True)
+            cli = hope.read_cloud(out).reshape(-1, 3)
+            depth = cv2.imread(os.path.join(room, "depth.png"), cv2.IMREAD_UNCHANGED)
+        # hope_extract --depth's default intrinsics (TUM freiburg1), as hope_synth renders.
+        points = hope.depth_to_cloud(depth, (517.3, 516.5, 318.6, 255.3), 5000.0).reshape(-1, 3)
+        frame = hope.Pipeline().process(points, 0.0, pose=pose, obstacles=True)
+        self.assertGreaterEqual(frame.floor_id, 0)
+        np.testing.assert_array_equal(points[frame.obstacles], cli)
+        world_z = points @ rotation(*pose[3:])[2] + pose[2]
+        finite = np.isfinite(world_z)
+        in_band = finite & (world_z > 0.06) & (world_z <= 1.99)
+        self.assertGreater(in_band.sum(), 10000)
+        chosen = np.zeros(len(points), bool)
+        chosen[frame.obstacles] = True
+        self.assertGreaterEqual((chosen & in_band).sum(), 0.99 * in_band.sum(), "recall")
+        near_band = (world_z > 0.04) & (world_z <= 2.01)
+        self.assertGreaterEqual((chosen & near_band).sum(), 0.99 * chosen.sum(), "precision")
+
+
 if __name__ == "__main__":
     unittest.main()

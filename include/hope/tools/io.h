@@ -35,6 +35,12 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
                  const std::vector<std::uint32_t>& labels,
                  const std::vector<std::int32_t>& objects);
 
+// Writes the points of `cloud` at `indices` (x, y, z as read, and rgb when the cloud has it), in
+// that order, as an unorganized binary PCD (hope_extract --obstacles). Throws
+// std::runtime_error when it cannot.
+void writePoints(const OutputFile& file, const InputCloud& cloud,
+                 const std::vector<std::uint32_t>& indices);
+
 // Writes an image in the format of the file's extension (.png, .jpg, …); throws
 // std::runtime_error when it cannot.
 void writeImage(const OutputFile& file, const cv::Mat& image);

@@ -20,8 +20,10 @@ def guard(*args, floors=None, data=None):
         env['QUALITY_FLOORS'] = floors
     if data is not None:
         env['HOPE_SHARED_DATA'] = data
+    # The synthetic part (210 staircase renderings among others) takes about 20 s here and some
+    # 20 times that in scripts/sanitize.sh's instrumented build: the limit is for a hang.
     r = subprocess.run([sys.executable, GUARD, *args], capture_output=True, text=True, env=env,
-                       timeout=300)
+                       timeout=1800)
     return r.returncode, r.stdout, r.stderr
 
 

@@ -31,6 +31,7 @@
 #include "hope/depth_image.h"
 #include "hope/evaluation/baselines.h"
 #include "hope/extractor.h"
+#include "hope/frame_pipeline.h"
 #include "hope/plane_tracker.h"
 #include "hope/surface_map.h"
 #include "hope/synthetic/lidar.h"
@@ -435,6 +436,61 @@ void BM_NodeletFrame(benchmark::State& state) {
   state.SetLabel(kInputNames[state.range(0)]);
 }
 BENCHMARK(BM_NodeletFrame)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What ~obstacles and ~floor_grid add to a frame (FrameOutputs::obstacles and floor_grid): the
+// frame pipeline on the input with neither (planes only: no labels, no objects, the cheapest
+// frame), with both, and the usual frame (labels and objects, hope's defaults), in turn in each
+// iteration, so that all see the same machine. Counters: plain_ms, with_ms, usual_ms,
+// added_share (of the plain frame; the target 0.10) and added_share_of_usual, floor (1
+// when a floor was in view: without one neither output does any work).
+void BM_FloorOutputs(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  hope::PipelineOptions options;
+  options.extraction = in.params;
+  options.objects = false;
+  hope::FramePipeline pipeline(options);
+  hope::FrameOutputs plain;
+  plain.point_labels = false;
+  plain.objects = false;
+  hope::FrameOutputs with = plain;
+  with.obstacles = true;
+  with.floor_grid = true;
+  const hope::PointsView view = hope::PointsView::of(*in.cloud);
+  double plain_ms = 0, with_ms = 0;
+  bool floor = false;
+  using Clock = std::chrono::steady_clock;
+  // The nodelet's usual frame besides: labels and objects (hope's defaults).
+  hope::PipelineOptions usual_options = options;
+  usual_options.objects = true;
+  hope::FramePipeline usual_pipeline(usual_options);
+  double usual_ms = 0;
+  int turn = 0;  // the order turned every iteration: none always finds warm caches
+  for (auto _ : state) {
+    for (int k = 0; k < 3; ++k) {
+      const int which = (turn + k) % 3;  // 0 plain, 1 with both outputs, 2 the usual frame
+      const auto start = Clock::now();
+      const hope::Frame frame =
+          which == 2 ? usual_pipeline.processAlone(view, in.pose, hope::FrameOutputs())
+                     : pipeline.processAlone(view, in.pose, which == 0 ? plain : with);
+      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      benchmark::DoNotOptimize(frame.floor_grid.cells.data());
+      (which == 0 ? plain_ms : which == 1 ? with_ms : usual_ms) += ms;
+      if (which == 1) floor = frame.floor_index >= 0;
+    }
+    turn = (turn + 1) % 3;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["plain_ms"] = plain_ms / n;
+  state.counters["with_ms"] = with_ms / n;
+  state.counters["usual_ms"] = usual_ms / n;
+  state.counters["added_share"] = (with_ms - plain_ms) / plain_ms;
+  state.counters["added_share_of_usual"] = (with_ms - plain_ms) / usual_ms;
+  state.counters["floor"] = floor ? 1 : 0;
+  state.SetLabel(kInputNames[state.range(0)]);
+}
+BENCHMARK(BM_FloorOutputs)->Arg(0)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Tracking cost per frame with 50 planes: a scene of 50 planes (heights 0–2 m, boxes over
 // 10 × 10 m) seen in 100 frames with centimetre jitter, a few planes missing in each frame.

@@ -17,6 +17,7 @@ packages=(
   libdepth-image-proc-dev libimage-transport-dev libdiagnostic-updater-dev
   libvisualization-msgs-dev rviz xvfb imagemagick
   libshape-msgs-dev python3-shape-msgs  # planes and object boxes in the standard shapes
+  libnav-msgs-dev python3-nav-msgs  # ~floor_grid (nav_msgs/OccupancyGrid)
   libgtest-dev libbenchmark-dev clang-format time  # time: peak memory in scripts/benchmark.sh
   pybind11-dev python3-dev python3-numpy python3-setuptools  # the Python bindings
   python3-scipy  # ../shared/tools/id_accuracy.py (the quality guard's identity figures)

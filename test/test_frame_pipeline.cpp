@@ -151,6 +151,146 @@ TEST(FramePipeline, ObstaclesAreTheThingsBetweenTheBandsHeightsAboveTheFloor) {
   }
 }
 
+// ~floor_grid against the scene's truth over a pan, the reference origin off the floor: cells
+// where a standing thing's points fall (between the obstacle heights, by the world's z) are
+// occupied, cells where only the floor was seen are free, cells nothing fell in are unseen.
+TEST(FramePipeline, TheFloorGridIsTheFloorSeenFreeAndTheThingsStandingOnIt) {
+  const std::vector<RenderedCloud> frames = renderPan(4, 320);
+  FramePipeline pipeline;
+  const PipelineOptions& o = pipeline.options();
+  FrameOutputs outputs;
+  outputs.floor_grid = true;
+  const Eigen::Vector3d offset(0.3, -0.2, 1.3);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const RenderedCloud& r = frames[f];
+    const Eigen::Isometry3d reference = Eigen::Translation3d(offset) * r.camera.pose;
+    const Frame frame = pipeline.process(PointsView::of(r.cloud), f / 30.0,
+                                         Orientation::fromTransform(reference), outputs);
+    ASSERT_TRUE(frame.processed);
+    ASSERT_GE(frame.floor_index, 0);
+    const FloorGrid& grid = frame.floor_grid;
+    ASSERT_GT(grid.width, 0);
+    ASSERT_EQ(grid.cells.size(), static_cast<std::size_t>(grid.width) * grid.height);
+    EXPECT_DOUBLE_EQ(grid.resolution, o.grid_resolution);
+    EXPECT_NEAR(grid.floor_height, offset.z(), 0.01) << "the floor 1.3 m above the origin";
+    // The truth per cell: 1 a floor point fell in it, 2 a standing thing's point did.
+    std::vector<std::uint8_t> truth(grid.cells.size(), 0);
+    std::size_t outside = 0;
+    for (std::size_t i = 0; i < r.cloud.size(); ++i) {
+      const Eigen::Vector3f p = r.cloud[i].getVector3fMap();
+      if (!p.allFinite()) continue;
+      const Eigen::Vector3d world = r.camera.pose * p.cast<double>();
+      const bool floor = r.truth[i] == 0;
+      const bool standing =
+          !floor && world.z() > o.obstacle_min_height && world.z() <= o.obstacle_max_height;
+      if (!floor && !standing) continue;
+      const Eigen::Vector3d in_reference = world + offset;
+      const long x = static_cast<long>(
+          std::floor((in_reference.x() - grid.origin.x()) / grid.resolution + 1e-9));
+      const long y = static_cast<long>(
+          std::floor((in_reference.y() - grid.origin.y()) / grid.resolution + 1e-9));
+      if (x < 0 || y < 0 || x >= grid.width || y >= grid.height) {
+        ++outside;
+        continue;
+      }
+      std::uint8_t& t = truth[static_cast<std::size_t>(y) * grid.width + x];
+      t = std::max<std::uint8_t>(t, standing ? 2 : 1);
+    }
+    EXPECT_EQ(outside, 0u) << "the grid spans every floor and standing point";
+    std::size_t floor_cells = 0, free_floor = 0, thing_cells = 0, occupied_things = 0;
+    std::size_t empty_cells = 0, unseen_empty = 0;
+    for (std::size_t c = 0; c < truth.size(); ++c) {
+      if (truth[c] == 1) ++floor_cells, free_floor += grid.cells[c] == FloorGrid::kFree;
+      if (truth[c] == 2) ++thing_cells, occupied_things += grid.cells[c] == FloorGrid::kOccupied;
+      if (truth[c] == 0) ++empty_cells, unseen_empty += grid.cells[c] == FloorGrid::kUnseen;
+    }
+    ASSERT_GT(floor_cells, 500u) << "frame " << f;
+    ASSERT_GT(thing_cells, 100u) << "frame " << f;
+    ASSERT_GT(empty_cells, 100u) << "frame " << f << ": the things' shadows";
+    EXPECT_GE(static_cast<double>(free_floor), 0.98 * floor_cells) << "frame " << f;
+    EXPECT_GE(static_cast<double>(occupied_things), 0.99 * thing_cells) << "frame " << f;
+    EXPECT_GE(static_cast<double>(unseen_empty), 0.99 * empty_cells) << "frame " << f;
+  }
+  // Coarser cells, live: the same area in a quarter as many cells, or fewer.
+  PipelineOptions coarser = pipeline.options();
+  coarser.grid_resolution = 0.1;
+  pipeline.setOptions(coarser);
+  const Frame frame = pipeline.process(PointsView::of(frames[0].cloud), 1.0,
+                                       Orientation::fromTransform(frames[0].camera.pose), outputs);
+  EXPECT_DOUBLE_EQ(frame.floor_grid.resolution, 0.1);
+  EXPECT_GT(frame.floor_grid.width, 0);
+  // Without asking, no grid.
+  const Frame without = pipeline.process(PointsView::of(frames[0].cloud), 1.1,
+                                         Orientation::fromTransform(frames[0].camera.pose));
+  EXPECT_EQ(without.floor_grid.width, 0);
+  EXPECT_TRUE(without.floor_grid.cells.empty());
+}
+
+// With the map (poses in a fixed frame), the frames' grids add up: after a pan, the grid holds
+// every cell any frame saw (against the truth of all frames: a standing thing's cells occupied,
+// the floor's free, the rest unseen; nothing moves), more than the first frame alone;
+// resetMap() forgets it.
+TEST(FramePipeline, WithTheMapTheFloorGridAddsUpThePansFrames) {
+  const std::vector<RenderedCloud> frames = renderPan(6, 320);
+  PipelineOptions options;
+  options.identity = Identity::kMap;
+  FramePipeline pipeline(options);
+  FrameOutputs outputs;
+  outputs.floor_grid = true;
+  const double cell = options.grid_resolution;
+  // The truth per absolute cell (x, y): 1 the floor was seen there, 2 a standing thing.
+  std::map<std::pair<long, long>, int> truth;
+  FloorGrid first, last;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const RenderedCloud& r = frames[f];
+    const Frame frame = pipeline.process(PointsView::of(r.cloud), f / 30.0,
+                                         Orientation::fromTransform(r.camera.pose), outputs);
+    ASSERT_TRUE(frame.processed);
+    if (f == 0) first = frame.floor_grid;
+    last = frame.floor_grid;
+    for (std::size_t i = 0; i < r.cloud.size(); ++i) {
+      const Eigen::Vector3f p = r.cloud[i].getVector3fMap();
+      if (!p.allFinite()) continue;
+      const Eigen::Vector3d world = r.camera.pose * p.cast<double>();
+      const bool floor = r.truth[i] == 0;
+      if (!floor &&
+          (world.z() <= options.obstacle_min_height || world.z() > options.obstacle_max_height)) {
+        continue;
+      }
+      int& t = truth[{static_cast<long>(std::floor(world.x() / cell + 1e-9)),
+                      static_cast<long>(std::floor(world.y() / cell + 1e-9))}];
+      t = std::max(t, floor ? 1 : 2);
+    }
+  }
+  ASSERT_GT(first.width, 0);
+  const auto seen = [](const FloorGrid& g) {
+    return std::count_if(g.cells.begin(), g.cells.end(),
+                         [](std::int8_t c) { return c != FloorGrid::kUnseen; });
+  };
+  EXPECT_GT(seen(last), seen(first)) << "the pan adds cells";
+  std::size_t floor_cells = 0, free = 0, thing_cells = 0, occupied = 0, empty = 0, unseen = 0;
+  const long x0 = std::lround(last.origin.x() / cell), y0 = std::lround(last.origin.y() / cell);
+  for (int y = 0; y < last.height; ++y) {
+    for (int x = 0; x < last.width; ++x) {
+      const auto it = truth.find({x0 + x, y0 + y});
+      const int t = it == truth.end() ? 0 : it->second;
+      const std::int8_t c = last.cells[static_cast<std::size_t>(y) * last.width + x];
+      if (t == 1) ++floor_cells, free += c == FloorGrid::kFree;
+      if (t == 2) ++thing_cells, occupied += c == FloorGrid::kOccupied;
+      if (t == 0) ++empty, unseen += c == FloorGrid::kUnseen;
+    }
+  }
+  EXPECT_GE(static_cast<double>(free), 0.98 * floor_cells);
+  EXPECT_GE(static_cast<double>(occupied), 0.99 * thing_cells);
+  EXPECT_GE(static_cast<double>(unseen), 0.99 * empty);
+  EXPECT_GT(floor_cells, 2000u);
+  pipeline.resetMap();
+  const Frame again = pipeline.process(PointsView::of(frames[0].cloud), 1.0,
+                                       Orientation::fromTransform(frames[0].camera.pose), outputs);
+  EXPECT_EQ(again.floor_grid.width, first.width) << "resetMap() forgets the grid's map";
+  EXPECT_EQ(again.floor_grid.cells, first.cells);
+}
+
 TEST(FramePipeline, AnAccelerometerIsAveragedOverItsWindowOfSeconds) {
   const std::vector<RenderedCloud> frames = renderPan(2, 160);
   const synthetic::Camera& camera = frames[0].camera;

@@ -27,6 +27,7 @@ namespace hope {
 
 class UpEstimator;
 class UpSmoother;
+struct FloorMap;
 
 // Up from the scene (up_estimation.h).
 enum class SceneLevelling {
@@ -86,6 +87,9 @@ struct PipelineOptions {
   // threshold a robot drives over, below a ceiling it passes under.
   double obstacle_min_height = 0.05;
   double obstacle_max_height = 2.0;
+  // The floor grid's cells (Frame::floor_grid), metres a side: a robot's footprint is a few
+  // of them.
+  double grid_resolution = 0.05;
 };
 
 // Throws std::invalid_argument naming the option and its range (the extraction's, the
@@ -102,6 +106,22 @@ struct FrameOutputs {
   bool keep_points = false;
   // Frame::obstacles and Frame::floor_index: one pass over the points.
   bool obstacles = false;
+  // Frame::floor_grid and Frame::floor_index: one pass over the points.
+  bool floor_grid = false;
+};
+
+// The floor as a navigation grid, nav_msgs/OccupancyGrid's layout and values: cells of
+// `resolution` metres in the reference frame, row by row (x along a row, rows along y) from the
+// cell whose corner is `origin`. A cell is kOccupied when a point between the obstacle heights
+// above the floor fell in it, kFree when only the floor's points (within obstacle_min_height,
+// at least r_z, of it) did, kUnseen otherwise.
+struct FloorGrid {
+  static constexpr std::int8_t kUnseen = -1, kFree = 0, kOccupied = 100;
+  double resolution = 0;
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // x y of cell (0, 0)'s corner, metres
+  double floor_height = 0;                           // the floor plane's height, metres
+  int width = 0, height = 0;                         // cells along x, along y
+  std::vector<std::int8_t> cells;                    // width × height, row-major
 };
 
 struct Frame {
@@ -130,6 +150,11 @@ struct Frame {
   // input indices of the points between PipelineOptions' obstacle heights above it, in order.
   int floor_index = -1;
   std::vector<std::uint32_t> obstacles;
+  // FrameOutputs::floor_grid: this frame's grid (empty, width 0, without a floor in view); with
+  // Identity::kMap, every frame's so far laid over each other in the fixed frame (a cell takes
+  // the latest look, an occupied one freed after 3 free looks in a row; resetMap() and a new
+  // grid_resolution start it afresh).
+  FloorGrid floor_grid;
   // Milliseconds spent giving the planes their ids (the tracker's or the map's update).
   double identity_ms = 0;
 };
@@ -182,7 +207,8 @@ class FramePipeline {
   std::vector<std::string> setOptions(const PipelineOptions& options);
   const PipelineOptions& options() const { return options_; }
 
-  // The map's entries (Identity::kMap), oldest first; forgetting them, ids going on.
+  // The map's entries (Identity::kMap), oldest first; forgetting them (and the floor grid's
+  // map), ids going on.
   std::vector<HorizontalPlane> mapSurfaces() const;
   std::size_t mapSize() const;
   void resetMap();
@@ -210,6 +236,7 @@ class FramePipeline {
   std::optional<double> last_level_stamp_;  // the last frame whose own scene gave up
   PlaneTracker tracker_;
   SurfaceMap map_;
+  std::unique_ptr<FloorMap> floor_map_;  // Identity::kMap: the frames' floor grids, overlaid
   struct GravitySample {
     double stamp;
     Eigen::Vector3d force;

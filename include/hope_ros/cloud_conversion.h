@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <nav_msgs/OccupancyGrid.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -14,6 +15,7 @@
 
 #include "hope/PlaneArray.h"
 #include "hope/extractor.h"
+#include "hope/frame_pipeline.h"
 
 namespace hope_ros {
 
@@ -35,6 +37,11 @@ sensor_msgs::PointCloud2 selectedPoints(const sensor_msgs::PointCloud2& cloud,
 
 // The planes as a message with `header` (the reference frame and the cloud's stamp).
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header);
+
+// The floor grid (~floor_grid) with `header` (the reference frame and the cloud's stamp): the
+// same cells and values (-1 unseen, 0 free, 100 occupied); the origin's pose at the cell (0, 0)
+// corner on the floor's height, unturned. An empty grid (no floor in view) has width 0.
+nav_msgs::OccupancyGrid toMessage(const hope::FloorGrid& grid, const std_msgs::Header& header);
 
 // Points in the reference frame with x y z (float32), rgb (float32, colour of the plane's id,
 // grey for none), label (uint32: plane id + 1, 0 for none) and object (uint32: the index of

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hope/floor_grid.h"
 #include "hope/gravity_alignment.h"
 #include "hope/obstacle_points.h"
 #include "hope/placement.h"
@@ -95,6 +96,10 @@ void validate(const PipelineOptions& options) {
     throw std::invalid_argument("obstacle_max_height must be in (1, 100] m (got " +
                                 std::to_string(options.obstacle_max_height) + ")");
   }
+  if (!(options.grid_resolution >= 0.005 && options.grid_resolution <= 10)) {
+    throw std::invalid_argument("grid_resolution must be in [0.005, 10] m (got " +
+                                std::to_string(options.grid_resolution) + ")");
+  }
 }
 
 FramePipeline::FramePipeline(const PipelineOptions& options)
@@ -102,7 +107,8 @@ FramePipeline::FramePipeline(const PipelineOptions& options)
       extractor_(options.extraction),
       up_smoother_(std::make_unique<UpSmoother>(options.level_smoothing)),
       tracker_(trackerOptionsFor(options.identity)),
-      map_(surfaceMapOptionsFor(options.extraction)) {}
+      map_(surfaceMapOptionsFor(options.extraction)),
+      floor_map_(std::make_unique<FloorMap>()) {}
 
 FramePipeline::~FramePipeline() = default;
 
@@ -131,6 +137,9 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
     }
     map_.reset(map_options);
   }
+  if (options.grid_resolution != options_.grid_resolution || options.identity != Identity::kMap) {
+    *floor_map_ = FloorMap();  // its cells are the resolution's
+  }
   if (levellingFor(options).cell != levellingFor(options_).cell ||
       options.level_bound_deg != options_.level_bound_deg) {
     up_estimator_.reset();  // made again with the new grid on the next frame
@@ -148,7 +157,10 @@ std::vector<HorizontalPlane> FramePipeline::mapSurfaces() const { return map_.su
 
 std::size_t FramePipeline::mapSize() const { return map_.size(); }
 
-void FramePipeline::resetMap() { map_.reset(); }
+void FramePipeline::resetMap() {
+  map_.reset();
+  *floor_map_ = FloorMap();
+}
 
 void FramePipeline::restart() {
   tracker_.reset();
@@ -305,13 +317,33 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   for (StandingObject& o : frame.result.objects) {
     o.plane_id = frame.result.planes[o.plane_index].id;
   }
-  if (outputs.obstacles) {
-    if (const std::optional<std::size_t> floor = findFloor(frame.result.planes)) {
-      frame.floor_index = static_cast<int>(*floor);
-      frame.obstacles = obstaclePoints(extractor_.alignedPoints(), frame.result.local_origin,
-                                       frame.result.planes[*floor], options_.obstacle_min_height,
-                                       options_.obstacle_max_height);
+  const std::optional<std::size_t> floor =
+      outputs.obstacles || outputs.floor_grid ? findFloor(frame.result.planes) : std::nullopt;
+  if (floor) {
+    frame.floor_index = static_cast<int>(*floor);
+    const HorizontalPlane& floor_plane = frame.result.planes[*floor];
+    if (outputs.obstacles) {
+      frame.obstacles =
+          obstaclePoints(extractor_.alignedPoints(), frame.result.local_origin, floor_plane,
+                         options_.obstacle_min_height, options_.obstacle_max_height);
     }
+    if (outputs.floor_grid) {
+      // Centred on the sensor where it is known, else on the floor.
+      const Eigen::Vector3d centre = orientation.viewpoint().value_or(floor_plane.centroid);
+      // The floor's own points lie within its clustering tolerance r_z of its plane (§2.3).
+      frame.floor_grid = floorGrid(
+          extractor_.alignedPoints(), frame.result.local_origin, floor_plane, centre.head<2>(),
+          std::max(options_.obstacle_min_height, options_.extraction.r_z),
+          options_.obstacle_min_height, options_.obstacle_max_height, options_.grid_resolution);
+      if (identify && options_.identity == Identity::kMap) {
+        accumulate(*floor_map_, frame.floor_grid, centre.head<2>());
+      }
+    }
+  }
+  // With the map (a fixed frame), the frames' grids add up to a map of the floor, given in
+  // frames without a floor in view too.
+  if (outputs.floor_grid && identify && options_.identity == Identity::kMap) {
+    frame.floor_grid = floor_map_->grid;
   }
   if (outputs.keep_points) {
     const AlignedPoints points = extractor_.alignedPoints();

@@ -128,6 +128,9 @@ std::vector<ParameterSpec> makeTable() {
   t.push_back(aboveMin(number("obstacle_max_height", "--obstacle-max-height", d.obstacle_max_height,
                               1.0, 100.0, "m", "obstacles", true, "and at most this far above it",
                               [](PipelineOptions& o, double v) { o.obstacle_max_height = v; })));
+  t.push_back(number("grid_resolution", "--grid-resolution", d.grid_resolution, 0.005, 10.0, "m",
+                     "floor grid", true, "the floor grid's cells, metres a side",
+                     [](PipelineOptions& o, double v) { o.grid_resolution = v; }));
   return t;
 }
 

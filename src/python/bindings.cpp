@@ -53,6 +53,9 @@ struct ExtractionResult {
   // the floor's plane id (-1: none in view).
   py::object obstacles = py::none();
   int floor_id = -1;
+  // Pipeline.process(floor_grid=True): {"cells": int8 (height, width), "resolution",
+  // "origin": (x, y), "floor_height"}, or None without a floor in view.
+  py::object floor_grid = py::none();
 };
 
 std::string shapeText(const py::array& array) {
@@ -330,7 +333,7 @@ class PyPipeline {
   ExtractionResult process(const py::array& points, double stamp, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
                            const py::object& transform, const py::object& viewpoint,
-                           bool placements, bool obstacles) {
+                           bool placements, bool obstacles, bool floor_grid) {
     std::optional<Eigen::Vector3d> force;
     hope::Orientation given = hope::Orientation::identity();
     if (!gravity.is_none()) {
@@ -353,6 +356,7 @@ class PyPipeline {
     hope::FrameOutputs outputs;
     outputs.keep_points = placements;
     outputs.obstacles = obstacles;
+    outputs.floor_grid = floor_grid;
     py::array converted;
     const hope::PointsView view = pointsOf(points, converted);
     auto frame = std::make_shared<hope::Frame>();
@@ -387,8 +391,19 @@ class PyPipeline {
       out.object_labels = ownedArray(std::move(out.result.point_objects), shape);
     }
     out.result.point_objects.clear();
+    if ((obstacles || floor_grid) && frame->floor_index >= 0) {
+      out.floor_id = frame->result.planes[frame->floor_index].id;
+    }
+    if (floor_grid && frame->floor_grid.width > 0) {
+      hope::FloorGrid& grid = frame->floor_grid;
+      py::dict d;
+      d["cells"] = ownedArray(std::move(grid.cells), {grid.height, grid.width});
+      d["resolution"] = grid.resolution;
+      d["origin"] = py::make_tuple(grid.origin.x(), grid.origin.y());
+      d["floor_height"] = grid.floor_height;
+      out.floor_grid = std::move(d);
+    }
     if (obstacles) {
-      if (frame->floor_index >= 0) out.floor_id = frame->result.planes[frame->floor_index].id;
       out.obstacles = ownedArray(std::vector<std::uint32_t>(frame->obstacles),
                                  {static_cast<py::ssize_t>(frame->obstacles.size())});
     }
@@ -807,7 +822,13 @@ PYBIND11_MODULE(_hope, m) {
                     "flattened) of the points between obstacle_min_height and "
                     "obstacle_max_height above the floor, else None")
       .def_readonly("floor_id", &ExtractionResult::floor_id,
-                    "Pipeline.process(obstacles=True): the floor's plane id, -1 for none")
+                    "Pipeline.process(obstacles=True or floor_grid=True): the floor's plane "
+                    "id, -1 for none")
+      .def_readonly("floor_grid", &ExtractionResult::floor_grid,
+                    "Pipeline.process(floor_grid=True): a dict, cells (int8, height x width, "
+                    "row y, column x: -1 unseen, 0 floor seen free, 100 something standing), "
+                    "resolution (m), origin (x, y of cell [0, 0]'s corner, reference frame, m), "
+                    "floor_height (m); None without a floor in view")
       .def(
           "to_dict",
           [](const ExtractionResult& r) {
@@ -975,13 +996,14 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("gravity") = py::none(), py::arg("quaternion") = py::none(),
            py::arg("pose") = py::none(), py::arg("transform") = py::none(),
            py::arg("viewpoint") = py::none(), py::arg("placements") = false,
-           py::arg("obstacles") = false,
+           py::arg("obstacles") = false, py::arg("floor_grid") = false,
            "One frame (stamp in seconds). Orientation: at most one of gravity (an accelerometer "
            "sample in m/s², sensor frame, averaged over gravity_window_s seconds), quaternion, "
            "pose or transform (4 x 4); with levelling='estimate' none. Returns an "
            "ExtractionResult with persistent ids, objects, events; skipped is set when the frame "
            "was skipped. placements=True keeps the frame's points for place(); obstacles=True "
-           "gives result.obstacles (see Pipeline's obstacle_min_height, obstacle_max_height).")
+           "gives result.obstacles (see Pipeline's obstacle_min_height, obstacle_max_height); "
+           "floor_grid=True gives result.floor_grid (cells of grid_resolution).")
       .def("place", &PyPipeline::place, py::arg("result"), py::arg("width"), py::arg("depth"),
            py::arg("clearance") = hope::Footprint().clearance, py::arg("plane_id") = py::none(),
            py::arg("max_results") = 5,

@@ -140,6 +140,21 @@ sensor_msgs::PointCloud2 selectedPoints(const sensor_msgs::PointCloud2& cloud,
   return out;
 }
 
+nav_msgs::OccupancyGrid toMessage(const hope::FloorGrid& grid, const std_msgs::Header& header) {
+  nav_msgs::OccupancyGrid msg;
+  msg.header = header;
+  msg.info.map_load_time = header.stamp;
+  msg.info.resolution = static_cast<float>(grid.resolution);
+  msg.info.width = static_cast<std::uint32_t>(grid.width);
+  msg.info.height = static_cast<std::uint32_t>(grid.height);
+  msg.info.origin.position.x = grid.origin.x();
+  msg.info.origin.position.y = grid.origin.y();
+  msg.info.origin.position.z = grid.floor_height;
+  msg.info.origin.orientation.w = 1.0;
+  msg.data.assign(grid.cells.begin(), grid.cells.end());
+  return msg;
+}
+
 hope::PlaneArray toMessage(const hope::Result& result, const std_msgs::Header& header) {
   hope::PlaneArray msg;
   msg.header = header;

@@ -180,6 +180,7 @@ hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
   // The slider ranges lie within what the pipeline accepts ([0, 1] and (1, 100] m).
   result.obstacle_min_height = config.obstacle_min_height;
   result.obstacle_max_height = config.obstacle_max_height;
+  result.grid_resolution = config.grid_resolution;
   return result;
 }
 
@@ -199,6 +200,7 @@ void writeConfig(const hope::PipelineOptions& options, hope::HopeConfig& config)
   config.objects = options.objects;
   config.obstacle_min_height = options.obstacle_min_height;
   config.obstacle_max_height = options.obstacle_max_height;
+  config.grid_resolution = options.grid_resolution;
 }
 
 std::string describe(const hope::PipelineOptions& options) {
@@ -207,12 +209,12 @@ std::string describe(const hope::PipelineOptions& options) {
   std::snprintf(text, sizeof(text),
                 "r_xy %.3f, r_z %.3f, height band [%g, %g], min_area %g, fragment merge %s (gap "
                 "<= %g m), scan-gap bridging %s, tracking %s, %d thread(s), objects %s (up to "
-                "%g m), obstacles %g-%g m above the floor",
+                "%g m), obstacles %g-%g m above the floor, grid cells %g m",
                 p.r_xy, p.r_z, p.min_height, p.max_height, p.min_area,
                 p.merge_fragments ? "on" : "off", p.max_merge_gap,
                 p.bridge_scan_gaps ? "on" : "off", hope::toString(options.identity), p.threads,
                 options.objects ? "on" : "off", options.object_params.max_height,
-                options.obstacle_min_height, options.obstacle_max_height);
+                options.obstacle_min_height, options.obstacle_max_height, options.grid_resolution);
   return text;
 }
 

@@ -66,6 +66,7 @@ void PlaneExtractorNodelet::onInit() {
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 10, changed, changed);
     objects_pub_ = pnh.advertise<hope::ObjectArray>("objects", 10, changed, changed);
     obstacles_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("obstacles", 3, changed, changed);
+    floor_grid_pub_ = pnh.advertise<nav_msgs::OccupancyGrid>("floor_grid", 3, changed, changed);
   }
   placement_srv_ =
       pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
@@ -87,7 +88,8 @@ void PlaneExtractorNodelet::connectionChanged() {
   const bool wanted = !settings_.lazy || planes_pub_.getNumSubscribers() > 0 ||
                       cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
                       objects_pub_.getNumSubscribers() > 0 ||
-                      obstacles_pub_.getNumSubscribers() > 0;
+                      obstacles_pub_.getNumSubscribers() > 0 ||
+                      floor_grid_pub_.getNumSubscribers() > 0;
   if (wanted == subscribed_) return;
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   const int queue = settings_.cloud_queue;
@@ -219,8 +221,10 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   const bool publish_markers = markers_pub_.getNumSubscribers() > 0;
   const bool publish_objects = objects_pub_.getNumSubscribers() > 0;
   const bool publish_obstacles = obstacles_pub_.getNumSubscribers() > 0;
+  const bool publish_grid = floor_grid_pub_.getNumSubscribers() > 0;
   hope::FrameOutputs outputs;
   outputs.obstacles = publish_obstacles;
+  outputs.floor_grid = publish_grid;
   outputs.keep_points = placements_ || publish_cloud;
   outputs.point_labels = publish_cloud || placements_;
   outputs.objects = publish_objects || publish_markers || publish_cloud;
@@ -265,11 +269,15 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     // In the cloud's own frame: a costmap or an octomap takes it as it takes the cloud.
     obstacles_pub_.publish(
         boost::make_shared<sensor_msgs::PointCloud2>(selectedPoints(*cloud, frame.obstacles)));
-    if (frame.floor_index < 0) {
-      NODELET_WARN_THROTTLE(30.0,
-                            "hope: no floor in view (a level surface of 0.25 m² or more "
-                            "seen from above): ~obstacles is empty");
-    }
+  }
+  if (publish_grid) {
+    floor_grid_pub_.publish(
+        boost::make_shared<nav_msgs::OccupancyGrid>(toMessage(frame.floor_grid, header)));
+  }
+  if ((publish_obstacles || publish_grid) && frame.floor_index < 0) {
+    NODELET_WARN_THROTTLE(30.0,
+                          "hope: no floor in view (a level surface of 0.25 m² or more seen "
+                          "from above): ~obstacles and ~floor_grid are empty");
   }
   if (publish_markers) {
     auto markers =

@@ -120,8 +120,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   bool pending_placements_ = true;
   bool pending_ = false;
 
-  ros::Publisher planes_pub_, cloud_pub_, markers_pub_, objects_pub_, obstacles_pub_, map_pub_,
-      map_markers_pub_;
+  ros::Publisher planes_pub_, cloud_pub_, markers_pub_, objects_pub_, obstacles_pub_,
+      floor_grid_pub_, map_pub_, map_markers_pub_;
   ros::ServiceServer placement_srv_, reset_map_srv_;
 
   // Diagnostics, under stats_mutex_.

@@ -169,8 +169,14 @@ hope::tools::CommandLine commandLine() {
              "--obstacle-max-height (default 2) m above the floor under them (the lowest level "
              "surface of 0.25 m² or more seen from above), x y z (rgb) as read; none without a "
              "floor")
-      .value("--obstacle-min-height", "M", "see --obstacles")
-      .value("--obstacle-max-height", "M", "see --obstacles")
+      .value("--obstacle-min-height", "M", "see --obstacles and --floor-grid")
+      .value("--obstacle-max-height", "M", "see --obstacles and --floor-grid")
+      .value("--floor-grid", "FILE.pgm",
+             "the floor as ROS map_server loads a map (FILE.pgm and FILE.yaml): cells of "
+             "--grid-resolution (default 0.05) m in the reference frame, black where an "
+             "obstacle point stands, white where only the floor was seen, grey unseen; none "
+             "written without a floor")
+      .value("--grid-resolution", "M", "see --floor-grid")
       .flag("--quiet", "no table on stdout");
   return cl;
 }
@@ -393,7 +399,7 @@ struct SequencePlan {
 // an option that cannot apply is an error, never silently ignored.
 SequencePlan sequencePlan(const Options& o) {
   for (const char* single : {"--input", "--depth", "--rgb", "--json", "--labels", "--overlay",
-                             "--place", "--obstacles"}) {
+                             "--place", "--obstacles", "--floor-grid"}) {
     if (o.values.count(single) || o.flag(single)) {
       throw std::invalid_argument(std::string(single) +
                                   " is for one frame; with --sequence use --jsonl / --overlay-dir");
@@ -794,9 +800,22 @@ int runSequence(const Options& o) {
 
 int run(const Options& o) {
   for (const char* band : {"--obstacle-min-height", "--obstacle-max-height"}) {
-    if (o.values.count(band) && !o.values.count("--obstacles")) {
-      throw std::invalid_argument(std::string(band) + " goes with --obstacles");
+    if (o.values.count(band) && !o.values.count("--obstacles") && !o.values.count("--floor-grid")) {
+      throw std::invalid_argument(std::string(band) + " goes with --obstacles or --floor-grid");
     }
+  }
+  if (o.values.count("--grid-resolution") && !o.values.count("--floor-grid")) {
+    throw std::invalid_argument("--grid-resolution goes with --floor-grid");
+  }
+  const std::string grid_path = o.values.count("--floor-grid") ? o.values.at("--floor-grid") : "";
+  const std::string pgm = ".pgm";
+  if (o.values.count("--floor-grid") &&
+      (grid_path.size() <= pgm.size() ||
+       grid_path.compare(grid_path.size() - pgm.size(), pgm.size(), pgm) != 0)) {
+    throw std::invalid_argument(
+        "--floor-grid wants a FILE.pgm (with FILE.yaml beside it, as "
+        "map_server loads a map), got '" +
+        grid_path + "'");
   }
   if (o.values.count("--sequence")) return runSequence(o);
   for (const char* sequence_only :
@@ -839,8 +858,13 @@ int run(const Options& o) {
   // work, so an unwritable one fails at once; all are renamed into place at the end, so a
   // failure leaves none of them behind.
   std::map<std::string, hope::tools::OutputFile> outputs;
-  for (const char* key : {"--json", "--labels", "--overlay", "--obstacles"}) {
+  for (const char* key : {"--json", "--labels", "--overlay", "--obstacles", "--floor-grid"}) {
     if (o.values.count(key)) outputs.emplace(key, hope::tools::OutputFile(o.values.at(key)));
+  }
+  if (!grid_path.empty()) {
+    outputs.emplace(
+        "--floor-grid yaml",
+        hope::tools::OutputFile(grid_path.substr(0, grid_path.size() - pgm.size()) + ".yaml"));
   }
 
   hope::tools::InputCloud input;
@@ -859,6 +883,7 @@ int run(const Options& o) {
       outputs.count("--json") || outputs.count("--labels") || outputs.count("--overlay") || place;
   wanted.keep_points = place || outputs.count("--overlay");
   wanted.obstacles = outputs.count("--obstacles") > 0;
+  wanted.floor_grid = outputs.count("--floor-grid") > 0;
   hope::Frame frame = pipeline.processAlone(input.view(), pose, wanted);
   if (!frame.processed) throw hope::LevellingError(frame.skipped);
   const std::optional<hope::UpEstimate>& levelled = frame.levelling;
@@ -932,6 +957,18 @@ int run(const Options& o) {
                    "seen from above): --obstacles holds no point\n";
     }
     hope::tools::writePoints(outputs.at("--obstacles"), input, frame.obstacles);
+  }
+  if (outputs.count("--floor-grid")) {
+    if (frame.floor_index < 0) {
+      // Nothing to draw a map around: both files are left out (their temporaries removed).
+      std::cerr << "hope_extract: warning: no floor in view (a level surface of 0.25 m² or more "
+                   "seen from above): --floor-grid writes no file\n";
+      outputs.erase("--floor-grid");
+      outputs.erase("--floor-grid yaml");
+    } else {
+      hope::tools::writeFloorGrid(outputs.at("--floor-grid"), outputs.at("--floor-grid yaml"),
+                                  frame.floor_grid);
+    }
   }
   if (outputs.count("--overlay")) {
     hope::tools::writeImage(

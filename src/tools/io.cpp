@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -171,6 +172,30 @@ void writePoints(const OutputFile& file, const InputCloud& cloud,
             static_cast<std::streamsize>(block.size()));
   out.close();
   if (out.fail()) throwCannotWrite(file.path());
+}
+
+void writeFloorGrid(const OutputFile& image, const OutputFile& yaml, const FloorGrid& grid) {
+  // map_server's trinary reading with negate 0: occupancy = (255 − p) / 255, occupied above
+  // 0.65, free below 0.196.
+  cv::Mat pixels(grid.height, grid.width, CV_8UC1);
+  for (int y = 0; y < grid.height; ++y) {
+    for (int x = 0; x < grid.width; ++x) {
+      const std::int8_t cell = grid.cells[static_cast<std::size_t>(y) * grid.width + x];
+      pixels.at<std::uint8_t>(grid.height - 1 - y, x) = cell == FloorGrid::kOccupied ? 0
+                                                        : cell == FloorGrid::kFree   ? 254
+                                                                                     : 205;
+    }
+  }
+  writeImage(image, pixels);
+  const std::string name = image.path().substr(image.path().find_last_of('/') + 1);
+  writeText(yaml, [&](std::ostream& out) {
+    out << std::setprecision(9)
+        << "# hope_extract --floor-grid: the floor at z = " << grid.floor_height
+        << " m in the reference frame\n"
+        << "image: " << name << "\nresolution: " << grid.resolution << "\norigin: ["
+        << grid.origin.x() << ", " << grid.origin.y()
+        << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  });
 }
 
 void writeImage(const OutputFile& file, const cv::Mat& image) {

@@ -362,6 +362,43 @@ class Obstacles(unittest.TestCase):
         self.assertIsNone(pipeline.process(scene.points, 0.1, viewpoint=(0.5, 0.4, 2.0)).obstacles)
 
 
+class FloorGrid(unittest.TestCase):
+    """Pipeline.process(floor_grid=True) on the same table and box: the box's footprint is
+    occupied, the rest of the table free, in 5 cm cells."""
+
+    def test_the_box_stands_on_the_table_seen_free(self):
+        scene = ObjectsAndPlacements
+        scene.setUpClass()
+        frame = hope.Pipeline().process(scene.points, 0.0, viewpoint=(0.5, 0.4, 2.0),
+                                        floor_grid=True)
+        grid = frame.floor_grid
+        table = [p for p in frame.planes if abs(p.height - 0.7) < 0.01]
+        self.assertEqual(frame.floor_id, table[0].id)
+        self.assertAlmostEqual(grid["floor_height"], 0.7, delta=0.005)
+        self.assertEqual(grid["resolution"], 0.05)
+        cells = grid["cells"]
+        self.assertEqual(cells.dtype, np.int8)
+        self.assertGreaterEqual(cells.shape[0] * 0.05, 0.8)  # rows along y: the table's 0.8 m
+        self.assertGreaterEqual(cells.shape[1] * 0.05, 1.0)
+        x0, y0 = grid["origin"]
+        counted = {100: 0, 0: 0}
+        for row in range(cells.shape[0]):
+            for column in range(cells.shape[1]):
+                x, y = x0 + (column + 0.5) * 0.05, y0 + (row + 0.5) * 0.05
+                in_box = 0.4 < x < 0.6 and 0.2 < y < 0.4
+                off_box = max(0.4 - x, x - 0.6, 0.2 - y, y - 0.4) > 0.05
+                on_table = 0 < x < 1.0 and 0 < y < 0.8
+                if in_box:
+                    self.assertEqual(cells[row, column], 100, (x, y))
+                    counted[100] += 1
+                elif on_table and off_box:
+                    self.assertEqual(cells[row, column], 0, (x, y))
+                    counted[0] += 1
+        self.assertEqual(counted[100], 16)  # 4 x 4 cells under the 0.2 m box
+        self.assertGreater(counted[0], 200)
+        self.assertIsNone(hope.Pipeline().process(scene.points, 0.0).floor_grid)
+
+
 class BadInput(unittest.TestCase):
     def setUp(self):
         self.extractor = hope.Extractor()

@@ -170,6 +170,21 @@ def rotation(qx, qy, qz, qw):
         [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]])
 
 
+def demo_room_through_cli(tmp, *options):
+    """hope_synth's demo room run through hope_extract --depth with its pose and `options`
+    (paths in them relative to `tmp`); returns the pose and the room's points (hope_extract
+    --depth's default intrinsics, TUM freiburg1, as hope_synth renders)."""
+    room = os.path.join(tmp, "room")
+    subprocess.run([SYNTH, "--out", room], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(room, "pose.txt")) as f:
+        pose = [float(v) for v in f.read().split()]
+    subprocess.run([EXTRACT, "--depth", os.path.join(room, "depth.png"), "--pose",
+                    " ".join(map(str, pose)), "--quiet"] + list(options), check=True, cwd=tmp)
+    depth = cv2.imread(os.path.join(room, "depth.png"), cv2.IMREAD_UNCHANGED)
+    points = hope.depth_to_cloud(depth, (517.3, 516.5, 318.6, 255.3), 5000.0).reshape(-1, 3)
+    return pose, points
+
+
 class ObstaclesParity(unittest.TestCase):
     """hope_extract --obstacles and Pipeline.process(obstacles=True) on the demo room give the
     same points, and they are the room's points between 5 cm and 2 m above its floor (z = 0 in
@@ -177,17 +192,8 @@ class ObstaclesParity(unittest.TestCase):
 
     def test_obstacles_are_the_same_points_and_the_rooms_band(self):
         with tempfile.TemporaryDirectory() as tmp:
-            room = os.path.join(tmp, "room")
-            subprocess.run([SYNTH, "--out", room], check=True, stdout=subprocess.DEVNULL)
-            with open(os.path.join(room, "pose.txt")) as f:
-                pose = [float(v) for v in f.read().split()]
-            out = os.path.join(tmp, "obstacles.pcd")
-            subprocess.run([EXTRACT, "--depth", os.path.join(room, "depth.png"), "--pose",
-                            " ".join(map(str, pose)), "--obstacles", out, "--quiet"], check=True)
-            cli = hope.read_cloud(out).reshape(-1, 3)
-            depth = cv2.imread(os.path.join(room, "depth.png"), cv2.IMREAD_UNCHANGED)
-        # hope_extract --depth's default intrinsics (TUM freiburg1), as hope_synth renders.
-        points = hope.depth_to_cloud(depth, (517.3, 516.5, 318.6, 255.3), 5000.0).reshape(-1, 3)
+            pose, points = demo_room_through_cli(tmp, "--obstacles", "obstacles.pcd")
+            cli = hope.read_cloud(os.path.join(tmp, "obstacles.pcd")).reshape(-1, 3)
         frame = hope.Pipeline().process(points, 0.0, pose=pose, obstacles=True)
         self.assertGreaterEqual(frame.floor_id, 0)
         np.testing.assert_array_equal(points[frame.obstacles], cli)
@@ -200,6 +206,53 @@ class ObstaclesParity(unittest.TestCase):
         self.assertGreaterEqual((chosen & in_band).sum(), 0.99 * in_band.sum(), "recall")
         near_band = (world_z > 0.04) & (world_z <= 2.01)
         self.assertGreaterEqual((chosen & near_band).sum(), 0.99 * chosen.sum(), "precision")
+
+
+
+def read_map(yaml_path):
+    """A map as map_server reads it (trinary, negate 0): cells as OccupancyGrid holds them, row 0
+    the smallest y, and the YAML's keys."""
+    keys = {}
+    with open(yaml_path) as f:
+        for line in f:
+            if ":" in line and not line.startswith("#"):
+                key, value = line.split(":", 1)
+                keys[key.strip()] = value.strip()
+    with open(os.path.join(os.path.dirname(yaml_path), keys["image"]), "rb") as f:
+        data = f.read()
+    magic, width, height, maximum = data.split(maxsplit=4)[:4]
+    assert magic == b"P5" and int(maximum) == 255, (magic, maximum)
+    pixels = np.frombuffer(data[-int(width) * int(height):], np.uint8)
+    pixels = pixels.reshape(int(height), int(width))[::-1]
+    occupancy = (255 - pixels.astype(float)) / 255
+    cells = np.full(pixels.shape, -1, np.int8)
+    cells[occupancy > float(keys["occupied_thresh"])] = 100
+    cells[occupancy < float(keys["free_thresh"])] = 0
+    return cells, keys
+
+
+class FloorGridParity(unittest.TestCase):
+    """hope_extract --floor-grid, read as map_server reads it, is Pipeline.process(floor_grid=True)'s
+    grid, cell for cell, at the same origin and resolution; and the room's table top (0.75 m up,
+    x 1.3-2.2, y -0.9-0.1, hope_synth's demo room) is occupied under it."""
+
+    def test_the_map_file_is_the_pythons_grid_and_the_table_stands_in_it(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            pose, points = demo_room_through_cli(tmp, "--floor-grid", "grid.pgm",
+                                                 "--grid-resolution", "0.1")
+            cells, keys = read_map(os.path.join(tmp, "grid.yaml"))
+        grid = hope.Pipeline(grid_resolution=0.1).process(points, 0.0, pose=pose,
+                                                          floor_grid=True).floor_grid
+        self.assertEqual(float(keys["resolution"]), 0.1)
+        origin = [float(v) for v in keys["origin"].strip("[]").split(",")]
+        np.testing.assert_allclose(origin[:2], grid["origin"], atol=1e-6)
+        np.testing.assert_array_equal(cells, grid["cells"])
+        x0, y0 = grid["origin"]
+        table = cells[int(round((-0.8 - y0) / 0.1)):int(round((0.0 - y0) / 0.1)),
+                      int(round((1.4 - x0) / 0.1)):int(round((2.1 - x0) / 0.1))]
+        self.assertEqual(table.size, 8 * 7)
+        self.assertTrue((table == 100).all(), table)
+        self.assertGreater((cells == 0).sum(), 500, "the floor seen free")
 
 
 if __name__ == "__main__":

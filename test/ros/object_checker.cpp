@@ -14,6 +14,7 @@
 
 #include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -168,46 +169,64 @@ std::size_t countBetween(const std::vector<double>& heights, double low, double 
                        [&](double z) { return z > low && z <= high; });
 }
 
+// The input clouds and hope's `Output` messages on `topic` with the same stamps, once at least 3
+// stamps are in both (false when that takes longer than `timeout` seconds).
+template <class Output>
+struct Pairs {
+  std::map<double, sensor_msgs::PointCloud2::ConstPtr> inputs;
+  std::map<double, typename Output::ConstPtr> outputs;
+  std::vector<double> stamps;
+};
+
+template <class Output>
+bool collectPairs(const std::string& topic, double timeout, Pairs<Output>& pairs) {
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  ros::Subscriber output_sub =
+      nh.subscribe<Output>(topic, 5,
+                           boost::function<void(const typename Output::ConstPtr&)>(
+                               [&](const typename Output::ConstPtr& m) {
+                                 std::lock_guard<std::mutex> lock(mutex);
+                                 pairs.outputs[m->header.stamp.toSec()] = m;
+                               }));
+  ros::Subscriber input_sub = nh.subscribe<sensor_msgs::PointCloud2>(
+      "/camera/depth/points", 5,
+      boost::function<void(const sensor_msgs::PointCloud2::ConstPtr&)>(
+          [&](const sensor_msgs::PointCloud2::ConstPtr& m) {
+            std::lock_guard<std::mutex> lock(mutex);
+            pairs.inputs[m->header.stamp.toSec()] = m;
+          }));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const bool enough = waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        pairs.stamps.clear();
+        for (const auto& o : pairs.outputs) {
+          if (pairs.inputs.count(o.first)) pairs.stamps.push_back(o.first);
+        }
+        return pairs.stamps.size() >= 3;
+      },
+      timeout);
+  spinner.stop();
+  return enough;
+}
+
 // ~obstacles against the demo room (its floor at z = 0 in odom): the input's points between
 // 5 cm and 2 m above the floor, all of them and nothing else (1 cm either side of each bound is
 // left to the floor's estimate and the depth noise), in the cloud's own frame.
 TEST(HopeObjects, ObstaclesAreTheRoomsPointsInTheBandAboveItsFloor) {
-  ros::NodeHandle nh, pnh("~");
+  ros::NodeHandle pnh("~");
   const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
   const double timeout = pnh.param("timeout", 60.0);
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
-  std::mutex mutex;
-  std::map<double, sensor_msgs::PointCloud2::ConstPtr> inputs, obstacles;
-  auto keep = [&](std::map<double, sensor_msgs::PointCloud2::ConstPtr>& into) {
-    return boost::function<void(const sensor_msgs::PointCloud2::ConstPtr&)>(
-        [&](const sensor_msgs::PointCloud2::ConstPtr& m) {
-          std::lock_guard<std::mutex> lock(mutex);
-          into[m->header.stamp.toSec()] = m;
-        });
-  };
-  ros::Subscriber obstacles_sub =
-      nh.subscribe<sensor_msgs::PointCloud2>(hope_ns + "/obstacles", 5, keep(obstacles));
-  ros::Subscriber input_sub =
-      nh.subscribe<sensor_msgs::PointCloud2>("/camera/depth/points", 5, keep(inputs));
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  std::vector<double> matched;
-  ASSERT_TRUE(waitFor(
-      [&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        matched.clear();
-        for (const auto& o : obstacles) {
-          if (inputs.count(o.first)) matched.push_back(o.first);
-        }
-        return matched.size() >= 3;
-      },
-      timeout))
+  Pairs<sensor_msgs::PointCloud2> pairs;
+  ASSERT_TRUE(collectPairs(hope_ns + "/obstacles", timeout, pairs))
       << "fewer than 3 clouds on " << hope_ns << "/obstacles matching an input";
-  std::lock_guard<std::mutex> lock(mutex);
-  for (double stamp : matched) {
-    const sensor_msgs::PointCloud2& found = *obstacles[stamp];
-    const sensor_msgs::PointCloud2& input = *inputs[stamp];
+  for (double stamp : pairs.stamps) {
+    const sensor_msgs::PointCloud2& found = *pairs.outputs[stamp];
+    const sensor_msgs::PointCloud2& input = *pairs.inputs[stamp];
     EXPECT_EQ(found.header.frame_id, input.header.frame_id) << "the cloud's own frame";
     const geometry_msgs::TransformStamped to_odom =
         tf_buffer.lookupTransform("odom", input.header.frame_id, input.header.stamp);
@@ -217,6 +236,62 @@ TEST(HopeObjects, ObstaclesAreTheRoomsPointsInTheBandAboveItsFloor) {
     ASSERT_GT(in_band, 1000u) << "the demo room's things are in view";
     EXPECT_GE(countBetween(band, 0.06, 1.99), 0.99 * in_band) << "recall at " << stamp;
     EXPECT_GE(countBetween(band, 0.04, 2.01), 0.99 * band.size()) << "precision at " << stamp;
+  }
+}
+
+// ~floor_grid against the demo room (its floor at z = 0 in odom), from the input's points in
+// odom: at least 99 % of the cells a standing thing's point falls in (6 cm to 1.99 m up) are
+// occupied, at least 98 % of those where only the floor (within 4 cm) was seen free. Cells holding
+// a point within 1 cm of a bound (5 cm, 2 m, the floor's 5 cm tolerance below it) are left to the
+// floor's estimate and the depth noise; at least 99 % of the cells nothing fell in are unseen.
+TEST(HopeObjects, TheFloorGridIsTheRoomsFloorSeenFreeAndItsThingsOccupied) {
+  ros::NodeHandle pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  Pairs<nav_msgs::OccupancyGrid> pairs;
+  ASSERT_TRUE(collectPairs(hope_ns + "/floor_grid", timeout, pairs))
+      << "fewer than 3 grids on " << hope_ns << "/floor_grid matching an input";
+  for (double stamp : pairs.stamps) {
+    const nav_msgs::OccupancyGrid& grid = *pairs.outputs[stamp];
+    const sensor_msgs::PointCloud2& input = *pairs.inputs[stamp];
+    EXPECT_EQ(grid.header.frame_id, "odom") << "the reference frame";
+    EXPECT_NEAR(grid.info.resolution, 0.05, 1e-6);
+    EXPECT_NEAR(grid.info.origin.position.z, 0.0, 0.01) << "on the floor";
+    const std::size_t width = grid.info.width, height = grid.info.height;
+    ASSERT_EQ(grid.data.size(), width * height);
+    const Eigen::Isometry3d to_odom = tf2::transformToEigen(
+        tf_buffer.lookupTransform("odom", input.header.frame_id, input.header.stamp));
+    // Per cell: 1 floor seen, 2 a standing thing, 3 a point too near the bound to call.
+    std::vector<std::uint8_t> truth(grid.data.size(), 0);
+    for (std::size_t i = 0; i < std::size_t(input.width) * input.height; ++i) {
+      float xyz[3];
+      std::memcpy(xyz, &input.data[i * input.point_step], sizeof(xyz));
+      const Eigen::Vector3d p = to_odom * Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+      if (!p.allFinite() || p.z() < -0.06 || p.z() > 2.01) continue;
+      const bool floor = p.z() >= -0.04 && p.z()<0.04, thing = p.z()> 0.06 && p.z() <= 1.99;
+      const std::uint8_t kind = floor ? 1 : thing ? 2 : 3;
+      const double x = std::floor((p.x() - grid.info.origin.position.x) / grid.info.resolution);
+      const double y = std::floor((p.y() - grid.info.origin.position.y) / grid.info.resolution);
+      if (x < 0 || y < 0 || x >= width || y >= height) {
+        ADD_FAILURE() << "a point at (" << p.x() << ", " << p.y() << ") is outside the grid";
+        continue;
+      }
+      std::uint8_t& t = truth[std::size_t(y) * width + std::size_t(x)];
+      t = std::max(t, kind);
+    }
+    std::size_t floor_cells = 0, free = 0, thing_cells = 0, occupied = 0, empty = 0, unseen = 0;
+    for (std::size_t c = 0; c < truth.size(); ++c) {
+      if (truth[c] == 1) ++floor_cells, free += grid.data[c] == 0;
+      if (truth[c] == 2) ++thing_cells, occupied += grid.data[c] == 100;
+      if (truth[c] == 0) ++empty, unseen += grid.data[c] == -1;
+    }
+    EXPECT_GE(unseen, 0.99 * empty) << "cells nothing was seen in are unseen at " << stamp;
+    ASSERT_GT(floor_cells, 200u) << "the demo room's floor is in view";
+    ASSERT_GT(thing_cells, 100u) << "the demo room's things are in view";
+    EXPECT_GE(free, 0.98 * floor_cells) << "floor cells free at " << stamp;
+    EXPECT_GE(occupied, 0.99 * thing_cells) << "things' cells occupied at " << stamp;
   }
 }
 

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "hope/depth_image.h"
+#include "hope/frame_pipeline.h"
 #include "hope/tools/cloud_file.h"
 #include "hope/tools/output_file.h"
 
@@ -40,6 +41,12 @@ void writeLabels(const OutputFile& file, const InputCloud& cloud,
 // std::runtime_error when it cannot.
 void writePoints(const OutputFile& file, const InputCloud& cloud,
                  const std::vector<std::uint32_t>& indices);
+
+// Writes the floor grid as ROS map_server loads a map: `image` a PGM (row 0 the grid's last row,
+// the largest y; 0 occupied, 254 free, 205 unseen) and `yaml` its description (image, named
+// relative to the YAML; resolution; origin; negate 0; occupied_thresh 0.65; free_thresh
+// 0.196), the floor's height in a comment. Throws std::runtime_error when it cannot.
+void writeFloorGrid(const OutputFile& image, const OutputFile& yaml, const FloorGrid& grid);
 
 // Writes an image in the format of the file's extension (.png, .jpg, …); throws
 // std::runtime_error when it cannot.

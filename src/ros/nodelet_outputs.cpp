@@ -1,5 +1,10 @@
 // The hope nodelet's outputs beyond the per-frame messages: the frames it broadcasts, the
 // surface map, and its services.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "hope_ros/cloud_conversion.h"
@@ -40,11 +45,128 @@ void PlaneExtractorNodelet::broadcastView(const hope::Result& result,
   tf_broadcaster_->sendTransform(t);
 }
 
+void PlaneExtractorNodelet::broadcastThings(const hope::Result& result,
+                                            const std_msgs::Header& header) {
+  std::vector<geometry_msgs::TransformStamped> frames;
+  frames.reserve(result.planes.size() + result.objects.size());
+  auto add = [&](const std::string& name, const Eigen::Vector3d& at, double yaw) {
+    geometry_msgs::TransformStamped t;
+    t.header = header;
+    t.child_frame_id = ownFrame(getName(), name.c_str());
+    t.transform.translation.x = at.x();
+    t.transform.translation.y = at.y();
+    t.transform.translation.z = at.z();
+    t.transform.rotation.z = std::sin(0.5 * yaw);
+    t.transform.rotation.w = std::cos(0.5 * yaw);
+    frames.push_back(t);
+  };
+  for (const hope::HorizontalPlane& p : result.planes) {
+    // On the plane at its centroid, level (whatever the fit's tilt): z up, as the frame's.
+    add("plane_" + std::to_string(p.id), Eigen::Vector3d(p.centroid.x(), p.centroid.y(), p.height),
+        0.0);
+  }
+  for (const hope::StandingObject& o : result.objects) {
+    add("object_" + std::to_string(o.index), o.box_centre, o.yaw);
+  }
+  if (!frames.empty()) tf_broadcaster_->sendTransform(frames);
+}
+
+bool PlaneExtractorNodelet::segment(hope::Segment::Request& request,
+                                    hope::Segment::Response& response) {
+  response.success = false;
+  response.message = checkSegmentRequest(request);
+  if (!response.message.empty()) return true;
+  PendingSegment pending;
+  pending.request = request;
+  pending.after = ros::Time::now();
+  const double seconds = segmentTimeout(request);
+  {
+    std::lock_guard<std::mutex> lock(segment_mutex_);
+    if (shutting_down_) {
+      response.message = "hope is shutting down";
+      return true;
+    }
+    segments_.push_back(&pending);
+    ++segments_waiting_;
+    ++segment_calls_;
+  }
+  connectionChanged();  // lazy: subscribes to the cloud while the request waits
+  bool shutting_down = false;
+  {
+    std::unique_lock<std::mutex> lock(segment_mutex_);
+    segment_cv_.wait_for(lock, std::chrono::duration<double>(seconds),
+                         [&] { return pending.done || shutting_down_; });
+    segments_.erase(std::find(segments_.begin(), segments_.end(), &pending));
+    --segments_waiting_;
+    shutting_down = shutting_down_;
+    if (pending.done) {
+      response = std::move(pending.response);
+    } else {
+      response.message = shutting_down ? "hope is shutting down" : whyNoSegment(pending, seconds);
+    }
+  }
+  if (!shutting_down) connectionChanged();  // lazy: unsubscribes when nothing else listens
+  // The destructor waits for this count: nothing of this object is touched after it.
+  std::lock_guard<std::mutex> lock(segment_mutex_);
+  --segment_calls_;
+  segment_cv_.notify_all();
+  return true;
+}
+
+void PlaneExtractorNodelet::answerSegments(const hope::Frame& frame,
+                                           const std_msgs::Header& header) {
+  std::lock_guard<std::mutex> lock(segment_mutex_);
+  bool answered = false;
+  for (PendingSegment* pending : segments_) {
+    if (pending->done) continue;
+    if (header.stamp < pending->after) {
+      ++pending->earlier;
+      pending->latest_earlier = header.stamp;
+      continue;
+    }
+    try {
+      pending->response = segmentAnswer(pending->request, frame, header);
+    } catch (const std::exception& e) {
+      pending->response = hope::Segment::Response();
+      pending->response.header = header;
+      pending->response.message = e.what();
+    }
+    pending->done = answered = true;
+  }
+  if (answered) segment_cv_.notify_all();
+}
+
+std::string PlaneExtractorNodelet::whyNoSegment(const PendingSegment& pending,
+                                                double seconds) const {
+  char text[160];
+  std::snprintf(text, sizeof(text),
+                "no cloud stamped after the request (%.3f s) was processed "
+                "within %g s: ",
+                pending.after.toSec(), seconds);
+  std::string why = text;
+  if (pending.earlier > 0) {
+    std::snprintf(text, sizeof(text),
+                  "%zu were, all stamped before it (the newest %.3f s before): the cloud's "
+                  "stamps are not on the ROS clock (a replay without --clock and use_sim_time?)",
+                  pending.earlier, (pending.after - pending.latest_earlier).toSec());
+    return why + text;
+  }
+  if (!pending.problem.empty()) return why + "the last cloud was skipped: " + pending.problem;
+  why += "none arrived on " + cloud_topic_;
+  if (settings_.source == "imu") {
+    why += " paired with an IMU message on " + getPrivateNodeHandle().resolveName("imu") +
+           " (orientation_source imu)";
+  } else if (settings_.source == "tf") {
+    why += " with a transform to " + settings_.reference_frame + " (orientation_source tf)";
+  }
+  return why;
+}
+
 bool PlaneExtractorNodelet::findPlacement(hope::FindPlacement::Request& request,
                                           hope::FindPlacement::Response& response) {
   std::lock_guard<std::mutex> lock(processing_mutex_);  // the pipeline and the last frame
   response.success = false;
-  if (!placements_) {
+  if (!switches_.placements) {
     response.message = "placements are switched off (~placements false)";
     return true;
   }

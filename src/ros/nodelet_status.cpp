@@ -22,6 +22,11 @@ void PlaneExtractorNodelet::reject(const std::string& problem) {
     ++rejected_since_update_;
     last_problem_ = problem;
   }
+  {
+    // A ~segment request waiting meanwhile says why it got no cloud.
+    std::lock_guard<std::mutex> lock(segment_mutex_);
+    for (PendingSegment* pending : segments_) pending->problem = problem;
+  }
   NODELET_WARN_THROTTLE(5.0, "hope: skipping a cloud: %s", problem.c_str());
 }
 

@@ -15,6 +15,13 @@
 namespace hope_ros {
 
 PlaneExtractorNodelet::~PlaneExtractorNodelet() {
+  {
+    // ~segment requests still waiting return at once ("shutting down"); wait until they did.
+    std::unique_lock<std::mutex> lock(segment_mutex_);
+    shutting_down_ = true;
+    segment_cv_.notify_all();
+    segment_cv_.wait(lock, [this] { return segment_calls_ == 0; });
+  }
   // Inputs first: no callback may run into members being destroyed (the tf filter reads the
   // buffer, the synchronizer calls process()).
   std::lock_guard<std::mutex> lock(connection_mutex_);
@@ -70,6 +77,9 @@ void PlaneExtractorNodelet::onInit() {
   }
   placement_srv_ =
       pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
+  // On the multi-threaded queue: a request waits for a cloud the single-threaded one delivers.
+  segment_srv_ =
+      getMTPrivateNodeHandle().advertiseService("segment", &PlaneExtractorNodelet::segment, this);
   if (source == "tf") {
     map_pub_ = pnh.advertise<hope::PlaneArray>("map", 1, true);
     map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);
@@ -89,7 +99,7 @@ void PlaneExtractorNodelet::connectionChanged() {
                       cloud_pub_.getNumSubscribers() > 0 || markers_pub_.getNumSubscribers() > 0 ||
                       objects_pub_.getNumSubscribers() > 0 ||
                       obstacles_pub_.getNumSubscribers() > 0 ||
-                      floor_grid_pub_.getNumSubscribers() > 0;
+                      floor_grid_pub_.getNumSubscribers() > 0 || segments_waiting_ > 0;
   if (wanted == subscribed_) return;
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   const int queue = settings_.cloud_queue;
@@ -215,19 +225,23 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     reject(problem);
     return;
   }
-  // Per-point labels feed the labeled cloud and ~find_placement, objects the labeled cloud,
-  // ~objects and ~markers: each is left out while nothing needs it.
+  // Per-point labels feed the labeled cloud, ~find_placement and ~segment, objects the labeled
+  // cloud, ~objects, ~markers, ~segment and the objects' tf frames: each is left out while
+  // nothing needs it.
   const bool publish_cloud = cloud_pub_.getNumSubscribers() > 0;
   const bool publish_markers = markers_pub_.getNumSubscribers() > 0;
   const bool publish_objects = objects_pub_.getNumSubscribers() > 0;
   const bool publish_obstacles = obstacles_pub_.getNumSubscribers() > 0;
   const bool publish_grid = floor_grid_pub_.getNumSubscribers() > 0;
+  const bool segmenting = segments_waiting_ > 0;
+  const bool object_points = publish_objects && switches_.object_points;
   hope::FrameOutputs outputs;
   outputs.obstacles = publish_obstacles;
   outputs.floor_grid = publish_grid;
-  outputs.keep_points = placements_ || publish_cloud;
-  outputs.point_labels = publish_cloud || placements_;
-  outputs.objects = publish_objects || publish_markers || publish_cloud;
+  outputs.keep_points = switches_.placements || publish_cloud || segmenting || object_points;
+  outputs.point_labels = publish_cloud || switches_.placements || segmenting;
+  outputs.objects =
+      publish_objects || publish_markers || publish_cloud || segmenting || switches_.publish_tf;
   const double stamp = cloud->header.stamp.toSec();
   hope::Frame frame;
   try {
@@ -263,7 +277,9 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     cloud_pub_.publish(labeled_cloud_);
   }
   if (publish_objects && pipeline_->options().objects) {
-    objects_pub_.publish(boost::make_shared<hope::ObjectArray>(toMessage(result.objects, header)));
+    auto objects = boost::make_shared<hope::ObjectArray>(toMessage(result.objects, header));
+    if (object_points) attachObjectPoints(frame, *objects);
+    objects_pub_.publish(objects);
   }
   if (publish_obstacles) {
     // In the cloud's own frame: a costmap or an octomap takes it as it takes the cloud.
@@ -286,13 +302,15 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
     markers_pub_.publish(markers);
   }
   if (!settings_.view_frame.empty()) broadcastView(result, header);
+  if (switches_.publish_tf) broadcastThings(result, header);
+  if (segmenting) answerSegments(frame, header);
   if (pipeline_->options().identity == hope::Identity::kMap &&
       (!frame.events.empty() ||
        ros::WallTime::now() - last_map_publish_ > ros::WallDuration(1.0))) {
     publishMap(header);
   }
   last_header_ = header;
-  if (placements_) last_frame_ = std::move(frame);
+  if (switches_.placements) last_frame_ = std::move(frame);
   noteTime(
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
@@ -304,7 +322,7 @@ void PlaneExtractorNodelet::takePendingOptions() {
   for (const std::string& note : pipeline_->setOptions(pending_options_)) {
     NODELET_WARN("hope: %s", note.c_str());
   }
-  placements_ = pending_placements_;
+  switches_ = pending_switches_;
   last_frame_ = hope::Frame();  // placements answer on frames of the new parameters only
   pending_ = false;
 }
@@ -314,11 +332,15 @@ void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*lev
   std::vector<std::string> problems;
   pending_options_ = withConfig(pending_options_, config, settings_.source == "tf", problems);
   for (const auto& p : problems) NODELET_WARN("hope: %s", p.c_str());
-  pending_placements_ = config.placements;
+  pending_switches_.placements = config.placements;
+  pending_switches_.object_points = config.object_points;
+  pending_switches_.publish_tf = config.publish_tf;
   pending_ = true;
   writeConfig(pending_options_, config);
-  NODELET_INFO("hope: parameters: %s, placements %s", describe(pending_options_).c_str(),
-               pending_placements_ ? "on" : "off");
+  NODELET_INFO("hope: parameters: %s, placements %s, object_points %s, publish_tf %s",
+               describe(pending_options_).c_str(), pending_switches_.placements ? "on" : "off",
+               pending_switches_.object_points ? "on" : "off",
+               pending_switches_.publish_tf ? "on" : "off");
 }
 
 }  // namespace hope_ros

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -28,6 +29,7 @@
 #include "hope/FindPlacement.h"
 #include "hope/HopeConfig.h"
 #include "hope/ResetMap.h"
+#include "hope/Segment.h"
 #include "hope/frame_pipeline.h"
 #include "hope_ros/frame_gaps.h"
 #include "nodelet_settings.h"
@@ -48,6 +50,22 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   struct FrameOrientation {
     hope::Orientation given;
     std::optional<Eigen::Vector3d> specific_force;
+  };
+  // The nodelet's own live parameters (cfg/Hope.cfg), beyond the pipeline's.
+  struct OutputSwitches {
+    bool placements = true;      // answer ~find_placement (keeps every frame's points)
+    bool object_points = false;  // ~objects carry each object's points
+    bool publish_tf = false;     // a tf frame per plane and per object
+  };
+  // A ~segment request waiting for its cloud (under segment_mutex_).
+  struct PendingSegment {
+    hope::Segment::Request request;
+    ros::Time after;  // the answer's cloud is stamped at or after this
+    bool done = false;
+    hope::Segment::Response response;
+    std::size_t earlier = 0;   // clouds processed meanwhile, stamped before `after`
+    ros::Time latest_earlier;  // the newest of them
+    std::string problem;       // the last reason a cloud was not processed meanwhile
   };
 
   void onInit() override;
@@ -76,6 +94,15 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // false and the reason, never as a failed call (a client would see no reason then).
   bool findPlacement(hope::FindPlacement::Request& request,
                      hope::FindPlacement::Response& response);
+  // ~segment: waits (on the nodelet's multi-threaded queue, so that clouds go on arriving) for
+  // the next frame stamped at or after the request, which process() answers.
+  bool segment(hope::Segment::Request& request, hope::Segment::Response& response);
+  // Answers every waiting ~segment request that `frame` (stamped header.stamp) can answer.
+  void answerSegments(const hope::Frame& frame, const std_msgs::Header& header);
+  // Why a ~segment request got no cloud in `seconds`.
+  std::string whyNoSegment(const PendingSegment& pending, double seconds) const;
+  // publish_tf: each plane's frame (at its centroid, level) and each object's (its box's pose).
+  void broadcastThings(const hope::Result& result, const std_msgs::Header& header);
   // ~reset_map: forgets the surface map's entries and publishes the empty map.
   bool resetMap(hope::ResetMap::Request& request, hope::ResetMap::Response& response);
   // The map's entries on the latched ~map and ~map_markers.
@@ -104,7 +131,7 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
 
   std::mutex processing_mutex_;  // one frame at a time; guards the pipeline and the last frame
   std::unique_ptr<hope::FramePipeline> pipeline_;
-  bool placements_ = true;
+  OutputSwitches switches_;
   hope::Frame last_frame_;  // for ~find_placement (with its points), when placements are on
   std_msgs::Header last_header_;
   std::optional<Eigen::Vector3d> view_centre_;
@@ -117,12 +144,20 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<hope::HopeConfig>> reconfigure_server_;
   std::mutex pending_mutex_;
   hope::PipelineOptions pending_options_;
-  bool pending_placements_ = true;
+  OutputSwitches pending_switches_;
   bool pending_ = false;
 
   ros::Publisher planes_pub_, cloud_pub_, markers_pub_, objects_pub_, obstacles_pub_,
       floor_grid_pub_, map_pub_, map_markers_pub_;
-  ros::ServiceServer placement_srv_, reset_map_srv_;
+  ros::ServiceServer placement_srv_, reset_map_srv_, segment_srv_;
+
+  // ~segment's waiting requests; process() answers them, the destructor wakes them.
+  std::mutex segment_mutex_;
+  std::condition_variable segment_cv_;
+  std::vector<PendingSegment*> segments_;
+  std::atomic<int> segments_waiting_{0};  // read by connectionChanged() and process()
+  int segment_calls_ = 0;                 // segment() calls in progress
+  bool shutting_down_ = false;
 
   // Diagnostics, under stats_mutex_.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;

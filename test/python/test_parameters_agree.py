@@ -112,7 +112,7 @@ class ParametersAgree(unittest.TestCase):
             if p["type"] == "choice":
                 self.assertEqual(sorted(entry["edit_method"]), sorted(p["choices"]), p["name"])
         # The nodelet's own live parameters beyond the pipeline's.
-        self.assertEqual(set(entries) - set(self.names), {"placements"})
+        self.assertEqual(set(entries) - set(self.names), {"placements", "object_points", "publish_tf"})
 
     def test_config_hope_yaml_holds_every_default(self):
         with open(os.path.join(ROOT, "config", "hope.yaml")) as f:

@@ -1,6 +1,7 @@
 // The rostest side of objects and placements: while the demo room bag replays with tf (heights
 // and positions in odom, the scene's own frame), checks hope's ~objects, the object boxes in
-// ~markers, the labeled cloud's object field, ~obstacles and ~find_placement against the
+// ~markers, the labeled cloud's object field, ~obstacles, ~floor_grid, ~segment, object_points,
+// publish_tf and ~find_placement against the
 // scene's ground truth (hope::synthetic::demoRoom()), then switches objects and placements off
 // through dynamic_reconfigure.
 // Parameters (private): hope_ns (/hope), timeout (60 s).
@@ -28,6 +29,7 @@
 #include "hope/FindPlacement.h"
 #include "hope/ObjectArray.h"
 #include "hope/PlaneArray.h"
+#include "hope/Segment.h"
 
 namespace {
 
@@ -293,6 +295,143 @@ TEST(HopeObjects, TheFloorGridIsTheRoomsFloorSeenFreeAndItsThingsOccupied) {
     EXPECT_GE(free, 0.98 * floor_cells) << "floor cells free at " << stamp;
     EXPECT_GE(occupied, 0.99 * thing_cells) << "things' cells occupied at " << stamp;
   }
+}
+
+// ~segment (object_points and publish_tf on in this launch): the first cloud stamped after the
+// request, answered as ~planes and ~objects gave that cloud, each object with its points inside
+// its box and in ~objects too, and a tf frame at each object's box.
+TEST(HopeObjects, SegmentAnswersAFreshCloudAsTheStreamDid) {
+  ros::NodeHandle nh, pnh("~");
+  const std::string hope_ns = pnh.param<std::string>("hope_ns", "/hope");
+  const double timeout = pnh.param("timeout", 60.0);
+  std::mutex mutex;
+  std::map<double, hope::PlaneArray::ConstPtr> planes;
+  std::map<double, hope::ObjectArray::ConstPtr> objects;
+  ros::Subscriber planes_sub =
+      nh.subscribe<hope::PlaneArray>(hope_ns + "/planes", 10,
+                                     boost::function<void(const hope::PlaneArray::ConstPtr&)>(
+                                         [&](const hope::PlaneArray::ConstPtr& m) {
+                                           std::lock_guard<std::mutex> lock(mutex);
+                                           planes[m->header.stamp.toSec()] = m;
+                                         }));
+  ros::Subscriber objects_sub =
+      nh.subscribe<hope::ObjectArray>(hope_ns + "/objects", 10,
+                                      boost::function<void(const hope::ObjectArray::ConstPtr&)>(
+                                          [&](const hope::ObjectArray::ConstPtr& m) {
+                                            std::lock_guard<std::mutex> lock(mutex);
+                                            objects[m->header.stamp.toSec()] = m;
+                                          }));
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_TRUE(hope_test::waitFor(
+      mutex, [&] { return objects.size() >= 2; }, timeout))
+      << "no ~objects stream";
+
+  hope::Segment srv;
+  srv.request.timeout = 10.0;
+  srv.request.limit_height = true;
+  srv.request.min_height = kTableZ - 0.05;
+  srv.request.max_height = kTableZ + 0.03;  // the book's top is a plane 5 cm higher
+  srv.request.limit_box = true;  // the demo room has another surface at the table's height
+  srv.request.box_min.x = kTableX0 - 0.1;
+  srv.request.box_min.y = kTableY0 - 0.1;
+  srv.request.box_min.z = kTableZ - 0.05;
+  srv.request.box_max.x = kTableX1 + 0.1;
+  srv.request.box_max.y = kTableY1 + 0.1;
+  srv.request.box_max.z = kTableZ + 0.5;
+  const ros::Time asked = ros::Time::now();
+  ASSERT_TRUE(ros::service::call(hope_ns + "/segment", srv));
+  const hope::Segment::Response& answer = srv.response;
+  ASSERT_TRUE(answer.success) << answer.message;
+  EXPECT_GE(answer.header.stamp, asked) << "answered from a cloud older than the request";
+  EXPECT_EQ(answer.header.frame_id, "odom");
+  std::string answered;
+  for (const hope::Plane& p : answer.planes) {
+    answered += " id " + std::to_string(p.id) + " surface " + std::to_string(p.surface_id) +
+                " at " + std::to_string(p.height) + " m x " + std::to_string(p.x_min) + "–" +
+                std::to_string(p.x_max) + " y " + std::to_string(p.y_min) + "–" +
+                std::to_string(p.y_max) + ",";
+  }
+  ASSERT_EQ(answer.planes.size(), 1u) << "the table alone is in the band and the box:" << answered;
+  ASSERT_EQ(answer.plane_points.size(), 1u);
+  EXPECT_NEAR(answer.planes[0].height, kTableZ, 0.02);
+  EXPECT_EQ(answer.plane_points[0].width, answer.planes[0].num_points);
+  // What stands on the table: the book, the cone and the tube.
+  EXPECT_EQ(answer.objects.size(), 3u);
+
+  // The stream's messages of the same cloud.
+  const double stamp = answer.header.stamp.toSec();
+  ASSERT_TRUE(hope_test::waitFor(
+      mutex, [&] { return planes.count(stamp) > 0 && objects.count(stamp) > 0; }, 10.0))
+      << "no ~planes and ~objects with the answer's stamp " << stamp;
+  hope::PlaneArray::ConstPtr stream_planes;
+  hope::ObjectArray::ConstPtr stream_objects;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    stream_planes = planes.at(stamp);
+    stream_objects = objects.at(stamp);
+  }
+  bool found = false;
+  for (const hope::Plane& p : stream_planes->planes) {
+    if (p.id != answer.planes[0].id) continue;
+    found = true;
+    EXPECT_EQ(p.height, answer.planes[0].height);
+    EXPECT_EQ(p.num_points, answer.planes[0].num_points);
+  }
+  EXPECT_TRUE(found) << "the stream has no plane " << answer.planes[0].id;
+  std::size_t on_table = 0;
+  for (const hope::Object& o : stream_objects->objects) {
+    if (o.plane_id != answer.planes[0].id) continue;
+    ++on_table;
+    const auto same = std::find_if(answer.objects.begin(), answer.objects.end(),
+                                   [&](const hope::Object& a) { return a.index == o.index; });
+    ASSERT_NE(same, answer.objects.end()) << "object " << o.index << " not answered";
+    EXPECT_EQ(same->num_points, o.num_points);
+    EXPECT_EQ(same->pose.position.x, o.pose.position.x);
+    EXPECT_EQ(same->box.dimensions, o.box.dimensions);
+    EXPECT_EQ(o.points.width, o.num_points) << "object_points: ~objects carry the points";
+  }
+  EXPECT_EQ(on_table, answer.objects.size());
+  for (const hope::Object& o : answer.objects) {
+    ASSERT_EQ(o.points.width, o.num_points);
+    ASSERT_EQ(o.box.dimensions.size(), 3u);
+    // Its box holds its points.
+    const Eigen::Vector3d centre(o.pose.position.x, o.pose.position.y, o.pose.position.z);
+    const Eigen::Quaterniond turn(o.pose.orientation.w, o.pose.orientation.x, o.pose.orientation.y,
+                                  o.pose.orientation.z);
+    const Eigen::Vector3d half =
+        0.5 * Eigen::Vector3d(o.box.dimensions[0], o.box.dimensions[1], o.box.dimensions[2]);
+    std::size_t inside = 0;
+    for (std::size_t i = 0; i < o.points.width; ++i) {
+      float xyz[3];
+      std::memcpy(xyz, &o.points.data[i * o.points.point_step], sizeof(xyz));
+      const Eigen::Vector3d local =
+          turn.inverse() * (Eigen::Vector3d(xyz[0], xyz[1], xyz[2]) - centre);
+      inside += (local.cwiseAbs() - half).maxCoeff() <= 1e-3;
+    }
+    EXPECT_GE(double(inside), 0.99 * o.num_points) << "object " << o.index;
+    // publish_tf: its frame at its box's centre.
+    const std::string frame = "hope_object_" + std::to_string(o.index);
+    std::string why;
+    ASSERT_TRUE(
+        tf_buffer.canTransform("odom", frame, answer.header.stamp, ros::Duration(5.0), &why))
+        << frame << ": " << why;
+    const Eigen::Vector3d at =
+        tf2::transformToEigen(tf_buffer.lookupTransform("odom", frame, answer.header.stamp))
+            .translation();
+    EXPECT_LT((at - centre).norm(), 1e-4) << frame;
+  }
+
+  // Nothing in a band: a refusal naming it.
+  srv.request.limit_box = false;
+  srv.request.min_height = 5.0;
+  srv.request.max_height = 6.0;
+  ASSERT_TRUE(ros::service::call(hope_ns + "/segment", srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("between 5.00 and 6.00 m"), std::string::npos)
+      << srv.response.message;
 }
 
 TEST(HopeObjects, ObjectsAndPlacementsMatchTheScene) {

@@ -14,7 +14,8 @@
 //   reconfigure_rejected (false): ask for a height band hope refuses; the reported config and
 //     the parameter server must keep the band in effect
 //   paused_clock (false): publish /clock once and a cloud no transform exists for; hope must
-//     keep answering dynamic_reconfigure (its callback thread never waits for tf)
+//     keep answering dynamic_reconfigure (its callback thread never waits for tf), and
+//     ~segment must answer after its timeout that no cloud came
 //   soak_seconds (0): play the clouds of `soak_bag` on `cloud_topic` that long at
 //     `soak_rate_hz` (30), stamped now, with their tf (steady_player.h), and listen to all
 //     three outputs; the player must keep 90 % of the rate or more, hope must answer every
@@ -47,6 +48,7 @@
 
 #include "checker_wait.h"
 #include "hope/PlaneArray.h"
+#include "hope/Segment.h"
 #include "steady_player.h"
 
 namespace {
@@ -414,6 +416,21 @@ TEST(HopeNodelet, PausedClockAndMissingTransformBlockNothing) {
   ASSERT_EQ(reply.wait_for(std::chrono::seconds(10)), std::future_status::ready)
       << "dynamic_reconfigure did not answer within 10 s while a cloud waited for tf";
   EXPECT_TRUE(reply.get());
+  // ~segment gets no cloud it can answer: after its timeout it says so, and why.
+  auto segmented = std::async(std::launch::async, [&] {
+    hope::Segment srv;
+    srv.request.timeout = 2.0;
+    const bool called = ros::service::call(hope_ns + "/segment", srv);
+    return std::make_pair(called, srv.response);
+  });
+  ASSERT_EQ(segmented.wait_for(std::chrono::seconds(10)), std::future_status::ready)
+      << "~segment did not answer within 10 s of a 2 s timeout";
+  const auto [called, answer] = segmented.get();
+  ASSERT_TRUE(called);
+  EXPECT_FALSE(answer.success);
+  EXPECT_EQ(answer.message.rfind("no cloud stamped after the request", 0), 0u) << answer.message;
+  EXPECT_NE(answer.message.find("within 2 s"), std::string::npos) << answer.message;
+  EXPECT_TRUE(answer.planes.empty());
 }
 
 TEST(HopeNodelet, DiagnosticsGoOnAfterTimeJumpsBack) {

@@ -1,5 +1,7 @@
 #include "hope/floor_grid.h"
 
+#include "hope/obstacle_points.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,15 +9,12 @@ namespace hope {
 
 FloorGrid floorGrid(const AlignedPoints& points, const Eigen::Vector3d& local_origin,
                     const HorizontalPlane& floor, const Eigen::Vector2d& centre,
-                    double floor_tolerance, double min_height, double max_height,
-                    double resolution) {
+                    double floor_tolerance, double min_height, double max_height, double resolution,
+                    std::vector<std::uint32_t>* obstacles) {
   FloorGrid grid;
   grid.resolution = resolution;
   grid.floor_height = floor.height;
-  // The floor's fitted plane under a point, as obstaclePoints() follows it.
-  const Eigen::Vector3d c = floor.centroid - local_origin;
-  const Eigen::Vector3d& n = floor.normal;
-  const double gx = -n.x() / n.z(), gy = -n.y() / n.z();
+  const HeightAboveFloor height_above(floor, local_origin);
   // One pass into the whole window around the centre (1 MB at most), cropped to the cells seen
   // at the end: no list of hits.
   const long half = kFloorGridMaxCells / 2, side = 2 * half + 1;
@@ -31,8 +30,9 @@ FloorGrid floorGrid(const AlignedPoints& points, const Eigen::Vector3d& local_or
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f p = points[i];
     if (!p.allFinite()) continue;
-    const double above = p.z() - (c.z() + gx * (p.x() - c.x()) + gy * (p.y() - c.y()));
+    const double above = height_above(p);
     const bool occupied = above > min_height && above <= max_height;
+    if (occupied && obstacles) obstacles->push_back(static_cast<std::uint32_t>(i));
     if (!occupied && std::abs(above) > floor_tolerance) continue;
     const double fx = (p.x() - start_x) * inverse, fy = (p.y() - start_y) * inverse;
     if (!(fx >= 0 && fy >= 0 && fx < side && fy < side)) continue;

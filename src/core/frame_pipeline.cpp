@@ -322,7 +322,7 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   if (floor) {
     frame.floor_index = static_cast<int>(*floor);
     const HorizontalPlane& floor_plane = frame.result.planes[*floor];
-    if (outputs.obstacles) {
+    if (outputs.obstacles && !outputs.floor_grid) {
       frame.obstacles =
           obstaclePoints(extractor_.alignedPoints(), frame.result.local_origin, floor_plane,
                          options_.obstacle_min_height, options_.obstacle_max_height);
@@ -334,7 +334,8 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
       frame.floor_grid = floorGrid(
           extractor_.alignedPoints(), frame.result.local_origin, floor_plane, centre.head<2>(),
           std::max(options_.obstacle_min_height, options_.extraction.r_z),
-          options_.obstacle_min_height, options_.obstacle_max_height, options_.grid_resolution);
+          options_.obstacle_min_height, options_.obstacle_max_height, options_.grid_resolution,
+          outputs.obstacles ? &frame.obstacles : nullptr);  // both outputs from one pass
       if (identify && options_.identity == Identity::kMap) {
         accumulate(*floor_map_, frame.floor_grid, centre.head<2>());
       }

@@ -23,11 +23,13 @@ constexpr int kFloorGridMaxCells = 1000;
 // otherwise. Points below the floor (a hole, a stair going down) and above `max_height` (a
 // ceiling) leave a cell as it is. The grid spans the cells that are not unseen, within
 // kFloorGridMaxCells / 2 of `centre` (reference-frame x y). `points` as
-// Extractor::alignedPoints() gives them, relative to `local_origin`.
+// Extractor::alignedPoints() gives them, relative to `local_origin`. With `obstacles`, the
+// obstacle points' input indices are appended to it in the same pass (what obstaclePoints()
+// gives: a frame that wants both reads its points once).
 FloorGrid floorGrid(const AlignedPoints& points, const Eigen::Vector3d& local_origin,
                     const HorizontalPlane& floor, const Eigen::Vector2d& centre,
-                    double floor_tolerance, double min_height, double max_height,
-                    double resolution);
+                    double floor_tolerance, double min_height, double max_height, double resolution,
+                    std::vector<std::uint32_t>* obstacles = nullptr);
 
 // A cell once seen occupied is free again only after this many looks in a row saw it free: a
 // thing that left is cleared within a few frames, while a thing's edge, which the depth noise

@@ -291,9 +291,12 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
         boost::make_shared<nav_msgs::OccupancyGrid>(toMessage(frame.floor_grid, header)));
   }
   if ((publish_obstacles || publish_grid) && frame.floor_index < 0) {
+    // With the map the grid is the map's so far, which this frame leaves as it was.
+    const bool mapped = pipeline_->options().identity == hope::Identity::kMap;
     NODELET_WARN_THROTTLE(30.0,
                           "hope: no floor in view (a level surface of 0.25 m² or more seen "
-                          "from above): ~obstacles and ~floor_grid are empty");
+                          "from above): ~obstacles is empty, ~floor_grid %s",
+                          mapped ? "unchanged by this frame" : "empty");
   }
   if (publish_markers) {
     auto markers =

@@ -32,6 +32,9 @@ struct Patch {
   // Flat enough for its normal to mean something: not too few points, not a corner or an edge
   // where two faces share the patch (its normal lies between theirs and would bridge a crease).
   bool flat = false;
+  // Its points span a surface, not one line (a scanline fits any plane through it). A patch that
+  // tells no normal (this, or too few points) is evidence of no crease: see the regions below.
+  bool tells_normal = false;
 };
 
 // Fewer points than this give no normal worth trusting.
@@ -42,6 +45,12 @@ constexpr std::size_t kLeastPatchPoints = 6;
 // touching objects apart (weighted overlap 0.871); 0.03 lets slivers through (0.762), 0.06
 // joins nearly everything that touches (0.717; scripts/score_objects.sh).
 constexpr double kMostFlatVariation = 0.02;
+// The least ratio of a patch's middle spread to its largest for its points to span a surface
+// (across at least a quarter as far as along), not a line.
+constexpr double kLeastSurfaceSpread = 1.0 / 16;
+// Patch sides between two flat patches that meet convexly across patches that tell no normal,
+// at most: a region two patches wide.
+constexpr double kConvexAcross = 3.0;
 // cos 60°: the least angle between a convex step and the line where the faces meet.
 constexpr double kSaneCos = 0.5;
 
@@ -117,7 +126,8 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
     patch.normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
     if (patch.normal.dot(eye - patch.centroid) < 0) patch.normal = -patch.normal;
     const Eigen::Vector3d spread = solver.eigenvalues();
-    patch.flat = spread(0) <= kMostFlatVariation * spread.sum();
+    patch.tells_normal = spread(1) >= kLeastSurfaceSpread * spread(2);
+    patch.flat = patch.tells_normal && spread(0) <= kMostFlatVariation * spread.sum();
   }
 
   // An object whose points lie mostly in patches that are not flat (a sparse cloud: too few
@@ -169,29 +179,71 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
       }
     }
   }
-  // A patch that is not flat (an edge, a corner, a few stray points) belongs with the flat
-  // patch next to it that has the most points: it never bridges a crease.
-  std::vector<std::uint32_t> flat_neighbour(keys.size(), std::numeric_limits<std::uint32_t>::max());
+  // Patches that tell no normal (too few points, or one scanline: a noise-free camera's samples
+  // on a surface seen at a slant or edge-on) carry no evidence of a crease. Those that touch
+  // form one region; so does every other patch that is not flat (an edge, a corner) alone.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  // The flags and counts apart from the patches' sums: the passes over the pairs below read
+  // them for every pair, and a compact copy stays in cache.
+  std::vector<std::uint8_t> flat(keys.size()), tells_normal(keys.size());
+  std::vector<std::size_t> count(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    flat[k] = patches[k].flat;
+    tells_normal[k] = patches[k].tells_normal;
+    count[k] = patches[k].count;
+  }
+  UnionFind regions(keys.size());
   for (const auto& [a, b] : adjacent) {
-    for (const auto& [from, to] : {std::make_pair(a, b), std::make_pair(b, a)}) {
-      if (patches[from].flat || !patches[to].flat) continue;
-      std::uint32_t& best = flat_neighbour[from];
-      if (best == std::numeric_limits<std::uint32_t>::max() ||
-          patches[to].count > patches[best].count) {
-        best = to;
-      }
-    }
+    if (!tells_normal[a] && !tells_normal[b]) regions.join(a, b);
+  }
+  // A patch that is not flat belongs with the flat patch next to it that has the most points,
+  // or, with none next to it, with its region's: it never bridges a concave crease.
+  std::vector<std::uint32_t> region_flat(keys.size(), kNone);  // per region root
+  std::vector<std::uint32_t> flat_neighbour(keys.size(), kNone);
+  const auto better = [&](std::uint32_t& best, std::uint32_t to) {
+    if (best == kNone || count[to] > count[best]) best = to;
+  };
+  for (const auto& [a, b] : adjacent) {
+    if (flat[a] == flat[b]) continue;
+    const std::uint32_t from = flat[a] ? b : a, to = flat[a] ? a : b;
+    better(flat_neighbour[from], to);
+    better(region_flat[regions.find(from)], to);
   }
   for (std::uint32_t k = 0; k < keys.size(); ++k) {
-    if (flat_neighbour[k] != std::numeric_limits<std::uint32_t>::max()) {
-      parts.join(k, flat_neighbour[k]);
+    if (flat[k]) continue;
+    const std::uint32_t own = flat_neighbour[k], region = region_flat[regions.find(k)];
+    if (own != kNone || region != kNone) parts.join(k, own != kNone ? own : region);
+  }
+  // The flat patches next to a region meet its flat patch across it: one surface when they lie
+  // in one plane (the step between them within smooth_deg of both: parallel patches at two
+  // heights, the tops of two boxes, are not) or meet convexly close by. Rows of sparse patches
+  // between rows of flat ones (a noise-free camera's scanlines) would otherwise cut a box's top
+  // into strips.
+  const double coplanar = std::sin(params.smooth_deg * M_PI / 180.0);
+  const auto meetAcross = [&](const Patch& p, const Patch& q, double patch) {
+    const Eigen::Vector3d step = p.centroid - q.centroid;
+    const bool one_plane = std::fabs(p.normal.dot(q.normal)) >= smooth &&
+                           std::fabs(p.normal.dot(step)) <= coplanar * step.norm() &&
+                           std::fabs(q.normal.dot(step)) <= coplanar * step.norm();
+    // A convex edge only across a region one or two patches wide: far apart, two faces of two
+    // things that touch can look convex to each other.
+    return one_plane || (step.norm() <= kConvexAcross * patch && convex(p, q));
+  };
+  for (const auto& [a, b] : adjacent) {
+    if (tells_normal[a] == tells_normal[b]) continue;  // one tells no normal, the other does
+    const std::uint32_t from = tells_normal[a] ? b : a, to = tells_normal[a] ? a : b;
+    if (!flat[to]) continue;
+    const std::uint32_t best = region_flat[regions.find(from)];
+    const double patch = patchOf(static_cast<std::int32_t>(keys[to] >> 48));
+    if (best != to && parts.find(best) != parts.find(to) &&
+        meetAcross(patches[best], patches[to], patch)) {
+      parts.join(best, to);
     }
   }
   // Parts too small to be faces (a crease's own sliver, a handle's stub) join the neighbour
   // with the most points, in one round: a second round would also swallow the small objects
   // that the first left small. Then parts too small to be objects at all join theirs until none
   // is left that touches another part (each round at least halves them).
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::size_t> part_points(keys.size());
   std::vector<std::uint32_t> best_neighbour(keys.size());
   const auto joinSmallParts = [&](std::size_t least_points) {

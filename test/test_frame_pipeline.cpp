@@ -149,6 +149,13 @@ TEST(FramePipeline, ObstaclesAreTheThingsBetweenTheBandsHeightsAboveTheFloor) {
     const double z = (r.camera.pose * r.cloud[i].getVector3fMap().cast<double>()).z();
     EXPECT_GT(z, 0.5 - 1e-3);
   }
+  // With the floor grid as well, the grid's pass collects them: the same points, in order.
+  FrameOutputs both = outputs;
+  both.floor_grid = true;
+  const Frame with_grid = pipeline.processAlone(PointsView::of(r.cloud),
+                                                Orientation::fromTransform(r.camera.pose), both);
+  EXPECT_EQ(with_grid.obstacles, frame.obstacles);
+  EXPECT_GT(with_grid.floor_grid.width, 0);
 }
 
 // ~floor_grid against the scene's truth over a pan, the reference origin off the floor: cells

@@ -126,7 +126,7 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
     patch.normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
     if (patch.normal.dot(eye - patch.centroid) < 0) patch.normal = -patch.normal;
     const Eigen::Vector3d spread = solver.eigenvalues();
-    patch.tells_normal = spread(1) >= kLeastSurfaceSpread * spread(2);
+    patch.tells_normal = spread(2) > 0 && spread(1) >= kLeastSurfaceSpread * spread(2);
     patch.flat = patch.tells_normal && spread(0) <= kMostFlatVariation * spread.sum();
   }
 
@@ -215,16 +215,19 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
     if (own != kNone || region != kNone) parts.join(k, own != kNone ? own : region);
   }
   // The flat patches next to a region meet its flat patch across it: one surface when they lie
-  // in one plane (the step between them within smooth_deg of both: parallel patches at two
-  // heights, the tops of two boxes, are not) or meet convexly close by. Rows of sparse patches
+  // in one plane (parallel patches at two heights, the tops of two boxes, do not) or meet
+  // convexly close by. Rows of sparse patches
   // between rows of flat ones (a noise-free camera's scanlines) would otherwise cut a box's top
   // into strips.
   const double coplanar = std::sin(params.smooth_deg * M_PI / 180.0);
   const auto meetAcross = [&](const Patch& p, const Patch& q, double patch) {
     const Eigen::Vector3d step = p.centroid - q.centroid;
+    // In one plane: the step between them runs along both within smooth_deg, and leaves each
+    // by at most two patch sides (the angle alone would let two parallel tops a few centimetres
+    // apart in height join across a long region).
+    const double off_plane = std::max(std::fabs(p.normal.dot(step)), std::fabs(q.normal.dot(step)));
     const bool one_plane = std::fabs(p.normal.dot(q.normal)) >= smooth &&
-                           std::fabs(p.normal.dot(step)) <= coplanar * step.norm() &&
-                           std::fabs(q.normal.dot(step)) <= coplanar * step.norm();
+                           off_plane <= coplanar * step.norm() && off_plane <= 2 * patch;
     // A convex edge only across a region one or two patches wide: far apart, two faces of two
     // things that touch can look convex to each other.
     return one_plane || (step.norm() <= kConvexAcross * patch && convex(p, q));

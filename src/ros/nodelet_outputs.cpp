@@ -88,7 +88,6 @@ bool PlaneExtractorNodelet::segment(hope::Segment::Request& request,
     }
     segments_.push_back(&pending);
     ++segments_waiting_;
-    ++segment_calls_;
   }
   connectionChanged();  // lazy: subscribes to the cloud while the request waits
   bool shutting_down = false;
@@ -106,10 +105,6 @@ bool PlaneExtractorNodelet::segment(hope::Segment::Request& request,
     }
   }
   if (!shutting_down) connectionChanged();  // lazy: unsubscribes when nothing else listens
-  // The destructor waits for this count: nothing of this object is touched after it.
-  std::lock_guard<std::mutex> lock(segment_mutex_);
-  --segment_calls_;
-  segment_cv_.notify_all();
   return true;
 }
 
@@ -145,10 +140,15 @@ std::string PlaneExtractorNodelet::whyNoSegment(const PendingSegment& pending,
                 pending.after.toSec(), seconds);
   std::string why = text;
   if (pending.earlier > 0) {
+    const double before = (pending.after - pending.latest_earlier).toSec();
+    // More than a second before it is no sensor's latency.
     std::snprintf(text, sizeof(text),
-                  "%zu were, all stamped before it (the newest %.3f s before): the cloud's "
-                  "stamps are not on the ROS clock (a replay without --clock and use_sim_time?)",
-                  pending.earlier, (pending.after - pending.latest_earlier).toSec());
+                  before > 1.0 ? "%zu were, all stamped before it (the newest %.3f s before): the "
+                                 "cloud's stamps are not on the ROS clock (a replay without "
+                                 "--clock and use_sim_time?)"
+                               : "%zu were, stamped before it (the newest %.3f s before), and none "
+                                 "after it: did the sensor stop?",
+                  pending.earlier, before);
     return why + text;
   }
   if (!pending.problem.empty()) return why + "the last cloud was skipped: " + pending.problem;

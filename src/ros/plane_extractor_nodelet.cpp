@@ -16,12 +16,14 @@ namespace hope_ros {
 
 PlaneExtractorNodelet::~PlaneExtractorNodelet() {
   {
-    // ~segment requests still waiting return at once ("shutting down"); wait until they did.
-    std::unique_lock<std::mutex> lock(segment_mutex_);
+    // ~segment requests still waiting return at once ("shutting down").
+    std::lock_guard<std::mutex> lock(segment_mutex_);
     shutting_down_ = true;
     segment_cv_.notify_all();
-    segment_cv_.wait(lock, [this] { return segment_calls_ == 0; });
   }
+  // No new request, and the service's thread joined: a request in progress has returned.
+  segment_srv_.shutdown();
+  if (segment_spinner_) segment_spinner_->stop();
   // Inputs first: no callback may run into members being destroyed (the tf filter reads the
   // buffer, the synchronizer calls process()).
   std::lock_guard<std::mutex> lock(connection_mutex_);
@@ -77,9 +79,12 @@ void PlaneExtractorNodelet::onInit() {
   }
   placement_srv_ =
       pnh.advertiseService("find_placement", &PlaneExtractorNodelet::findPlacement, this);
-  // On the multi-threaded queue: a request waits for a cloud the single-threaded one delivers.
-  segment_srv_ =
-      getMTPrivateNodeHandle().advertiseService("segment", &PlaneExtractorNodelet::segment, this);
+  // On a queue and a thread of its own: a request waits for a cloud the manager delivers.
+  ros::NodeHandle segment_nh(pnh);
+  segment_nh.setCallbackQueue(&segment_queue_);
+  segment_srv_ = segment_nh.advertiseService("segment", &PlaneExtractorNodelet::segment, this);
+  segment_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &segment_queue_);
+  segment_spinner_->start();
   if (source == "tf") {
     map_pub_ = pnh.advertise<hope::PlaneArray>("map", 1, true);
     map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);

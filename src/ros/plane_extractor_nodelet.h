@@ -16,6 +16,7 @@
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
 #include <nodelet/nodelet.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -94,8 +95,9 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // false and the reason, never as a failed call (a client would see no reason then).
   bool findPlacement(hope::FindPlacement::Request& request,
                      hope::FindPlacement::Response& response);
-  // ~segment: waits (on the nodelet's multi-threaded queue, so that clouds go on arriving) for
-  // the next frame stamped at or after the request, which process() answers.
+  // ~segment: waits (on a queue and a thread of its own, so that clouds go on arriving on the
+  // manager's threads) for the next frame stamped at or after the request, which process()
+  // answers.
   bool segment(hope::Segment::Request& request, hope::Segment::Response& response);
   // Answers every waiting ~segment request that `frame` (stamped header.stamp) can answer.
   void answerSegments(const hope::Frame& frame, const std_msgs::Header& header);
@@ -151,12 +153,15 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
       floor_grid_pub_, map_pub_, map_markers_pub_;
   ros::ServiceServer placement_srv_, reset_map_srv_, segment_srv_;
 
-  // ~segment's waiting requests; process() answers them, the destructor wakes them.
+  // ~segment's waiting requests; process() answers them, the destructor wakes them. The service
+  // has its own queue and thread: a request blocked on a manager thread could hold up the very
+  // cloud it waits for (the manager gives a nodelet's queue to a thread and keeps it there).
+  ros::CallbackQueue segment_queue_;
+  std::unique_ptr<ros::AsyncSpinner> segment_spinner_;
   std::mutex segment_mutex_;
   std::condition_variable segment_cv_;
   std::vector<PendingSegment*> segments_;
   std::atomic<int> segments_waiting_{0};  // read by connectionChanged() and process()
-  int segment_calls_ = 0;                 // segment() calls in progress
   bool shutting_down_ = false;
 
   // Diagnostics, under stats_mutex_.

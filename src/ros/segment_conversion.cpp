@@ -133,7 +133,12 @@ std::string checkSegmentRequest(const hope::Segment::Request& request) {
       !(finite(request.box_min) && finite(request.box_max) &&
         request.box_min.x <= request.box_max.x && request.box_min.y <= request.box_max.y &&
         request.box_min.z <= request.box_max.z)) {
-    return "limit_box: box_min must be finite and at most box_max in x, y and z";
+    const auto& lo = request.box_min;
+    const auto& hi = request.box_max;
+    return "limit_box: box_min must be finite and at most box_max in x, y and z (got (" +
+           std::to_string(lo.x) + ", " + std::to_string(lo.y) + ", " + std::to_string(lo.z) +
+           ") and (" + std::to_string(hi.x) + ", " + std::to_string(hi.y) + ", " +
+           std::to_string(hi.z) + "))";
   }
   return "";
 }
@@ -151,11 +156,21 @@ hope::Segment::Response segmentAnswer(const hope::Segment::Request& request,
   std::vector<bool> answered(result.planes.size(), false);
   for (std::size_t i = 0; i < result.planes.size(); ++i) {
     const hope::HorizontalPlane& p = result.planes[i];
-    if (!inBand(request, p.height) || !meetsBox(request, p)) continue;
-    answered[i] = true;
+    answered[i] = inBand(request, p.height) && meetsBox(request, p);
+  }
+  // Each answered plane's points, from one pass over the labels.
+  std::vector<std::vector<std::uint32_t>> plane_indices(result.planes.size());
+  for (std::size_t k = 0; k < result.point_labels.size(); ++k) {
+    const std::int32_t label = result.point_labels[k];
+    if (label >= 0 && static_cast<std::size_t>(label) < answered.size() && answered[label]) {
+      plane_indices[label].push_back(static_cast<std::uint32_t>(k));
+    }
+  }
+  for (std::size_t i = 0; i < result.planes.size(); ++i) {
+    if (!answered[i]) continue;
     response.planes.push_back(planes.planes[i]);
     response.plane_points.push_back(
-        referencePoints(frame.points, result.local_origin, result.pointsOf(i), header));
+        referencePoints(frame.points, result.local_origin, plane_indices[i], header));
   }
   if (response.planes.empty()) {
     std::string heights;
@@ -163,7 +178,8 @@ hope::Segment::Response segmentAnswer(const hope::Segment::Request& request,
       heights += (heights.empty() ? "" : ", ") + metres(p.height);
     }
     response.success = false;
-    response.message = "no plane " + describeLimits(request) + " in the cloud of " +
+    const std::string limits = describeLimits(request);
+    response.message = "no plane " + (limits.empty() ? "" : limits + " ") + "in the cloud of " +
                        std::to_string(header.stamp.toSec()) + " s" +
                        (heights.empty() ? " (it had none)" : " (its planes: " + heights + " m)");
     response.plane_points.clear();

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,19 @@ std::size_t countBetween(const std::vector<double>& heights, double low, double 
                        [&](double z) { return z > low && z <= high; });
 }
 
+// The cloud frame's transform into odom at `stamp`, or nothing when the buffer no longer holds
+// it: the bag loops, and a jump back in time clears the tf buffer.
+std::optional<geometry_msgs::TransformStamped> toOdom(const tf2_ros::Buffer& buffer,
+                                                      const std::string& frame,
+                                                      const ros::Time& stamp) {
+  if (!buffer.canTransform("odom", frame, stamp, ros::Duration(1.0))) return std::nullopt;
+  try {
+    return buffer.lookupTransform("odom", frame, stamp);
+  } catch (const tf2::TransformException&) {
+    return std::nullopt;
+  }
+}
+
 // The input clouds and hope's `Output` messages on `topic` with the same stamps, once at least 3
 // stamps are in both (false when that takes longer than `timeout` seconds).
 template <class Output>
@@ -226,19 +240,22 @@ TEST(HopeObjects, ObstaclesAreTheRoomsPointsInTheBandAboveItsFloor) {
   Pairs<sensor_msgs::PointCloud2> pairs;
   ASSERT_TRUE(collectPairs(hope_ns + "/obstacles", timeout, pairs))
       << "fewer than 3 clouds on " << hope_ns << "/obstacles matching an input";
+  std::size_t checked = 0;
   for (double stamp : pairs.stamps) {
     const sensor_msgs::PointCloud2& found = *pairs.outputs[stamp];
     const sensor_msgs::PointCloud2& input = *pairs.inputs[stamp];
     EXPECT_EQ(found.header.frame_id, input.header.frame_id) << "the cloud's own frame";
-    const geometry_msgs::TransformStamped to_odom =
-        tf_buffer.lookupTransform("odom", input.header.frame_id, input.header.stamp);
-    const std::vector<double> all = odomHeights(input, to_odom);
-    const std::vector<double> band = odomHeights(found, to_odom);
+    const auto to_odom = toOdom(tf_buffer, input.header.frame_id, input.header.stamp);
+    if (!to_odom) continue;
+    ++checked;
+    const std::vector<double> all = odomHeights(input, *to_odom);
+    const std::vector<double> band = odomHeights(found, *to_odom);
     const std::size_t in_band = countBetween(all, 0.06, 1.99);
     ASSERT_GT(in_band, 1000u) << "the demo room's things are in view";
     EXPECT_GE(countBetween(band, 0.06, 1.99), 0.99 * in_band) << "recall at " << stamp;
     EXPECT_GE(countBetween(band, 0.04, 2.01), 0.99 * band.size()) << "precision at " << stamp;
   }
+  EXPECT_GE(checked, 1u) << "no obstacle cloud whose input's transform tf still held";
 }
 
 // ~floor_grid against the demo room (its floor at z = 0 in odom), from the input's points in
@@ -255,6 +272,7 @@ TEST(HopeObjects, TheFloorGridIsTheRoomsFloorSeenFreeAndItsThingsOccupied) {
   Pairs<nav_msgs::OccupancyGrid> pairs;
   ASSERT_TRUE(collectPairs(hope_ns + "/floor_grid", timeout, pairs))
       << "fewer than 3 grids on " << hope_ns << "/floor_grid matching an input";
+  std::size_t checked = 0;
   for (double stamp : pairs.stamps) {
     const nav_msgs::OccupancyGrid& grid = *pairs.outputs[stamp];
     const sensor_msgs::PointCloud2& input = *pairs.inputs[stamp];
@@ -263,8 +281,10 @@ TEST(HopeObjects, TheFloorGridIsTheRoomsFloorSeenFreeAndItsThingsOccupied) {
     EXPECT_NEAR(grid.info.origin.position.z, 0.0, 0.01) << "on the floor";
     const std::size_t width = grid.info.width, height = grid.info.height;
     ASSERT_EQ(grid.data.size(), width * height);
-    const Eigen::Isometry3d to_odom = tf2::transformToEigen(
-        tf_buffer.lookupTransform("odom", input.header.frame_id, input.header.stamp));
+    const auto transform = toOdom(tf_buffer, input.header.frame_id, input.header.stamp);
+    if (!transform) continue;
+    ++checked;
+    const Eigen::Isometry3d to_odom = tf2::transformToEigen(*transform);
     // Per cell: 1 floor seen, 2 a standing thing, 3 a point too near the bound to call.
     std::vector<std::uint8_t> truth(grid.data.size(), 0);
     for (std::size_t i = 0; i < std::size_t(input.width) * input.height; ++i) {
@@ -295,6 +315,7 @@ TEST(HopeObjects, TheFloorGridIsTheRoomsFloorSeenFreeAndItsThingsOccupied) {
     EXPECT_GE(free, 0.98 * floor_cells) << "floor cells free at " << stamp;
     EXPECT_GE(occupied, 0.99 * thing_cells) << "things' cells occupied at " << stamp;
   }
+  EXPECT_GE(checked, 1u) << "no grid whose input's transform tf still held";
 }
 
 // ~segment (object_points and publish_tf on in this launch): the first cloud stamped after the

@@ -55,6 +55,23 @@ int idOfSurface(const Frame& frame, const std::vector<int>& truth, int surface) 
   return best;
 }
 
+// For each plane of the frame, the true surface most of its points lie on (-1: none).
+std::vector<int> trueSurfaceOfEachPlane(const Frame& frame, const std::vector<int>& truth) {
+  std::vector<std::map<int, std::size_t>> counts(frame.result.planes.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const int plane = frame.result.point_labels[i];
+    if (plane >= 0) ++counts[plane][truth[i]];
+  }
+  std::vector<int> surface(counts.size(), -1);
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    std::size_t most = 0;
+    for (const auto& [s, n] : counts[k]) {
+      if (n > most) most = n, surface[k] = s;
+    }
+  }
+  return surface;
+}
+
 // Up in the reference frame that `orientation` gives the camera: the angle between the
 // reference frame's z and the world's.
 double tiltErrorDeg(const Orientation& orientation, const synthetic::Camera& camera) {
@@ -81,13 +98,19 @@ TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
         EXPECT_EQ(o.plane_id, frame.result.planes[o.plane_index].id)
             << "an object names its plane's persistent id";
       }
-      // Each plane's surface is a plane of this frame at its height (within r_z), the largest.
-      for (const HorizontalPlane& p : frame.result.planes) {
+      // Each plane's surface is a plane of this frame, the largest of its pieces, and on the
+      // same true surface (the scene's truth: the surface most of each plane's points lie on).
+      const std::vector<int> truth_of = trueSurfaceOfEachPlane(frame, frames[f].truth);
+      for (std::size_t k = 0; k < frame.result.planes.size(); ++k) {
+        const HorizontalPlane& p = frame.result.planes[k];
         int named = 0;
-        for (const HorizontalPlane& q : frame.result.planes) {
+        for (std::size_t j = 0; j < frame.result.planes.size(); ++j) {
+          const HorizontalPlane& q = frame.result.planes[j];
           if (q.id != p.surface_id) continue;
           ++named;
-          EXPECT_LE(std::abs(q.height - p.height), options.extraction.r_z);
+          EXPECT_EQ(truth_of[j], truth_of[k])
+              << "plane " << p.id << " (" << p.height << " m) named by plane " << q.id << " ("
+              << q.height << " m)";
           EXPECT_GE(q.area, p.area);
         }
         EXPECT_EQ(named, 1) << "plane " << p.id << "'s surface " << p.surface_id;

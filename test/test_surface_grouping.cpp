@@ -1,5 +1,8 @@
 // Surface ids (surface_grouping.h): pieces of one surface in a frame share the largest one's id;
-// a piece at another height, facing the other way or elsewhere keeps its own.
+// a piece at another height, facing the other way or elsewhere keeps its own. How far apart in
+// height two pieces may be follows the sensor's noise at their ranges; where a piece lies
+// follows where its id was seen in the last second.
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -16,8 +19,16 @@ HorizontalPlane piece(int id, double height, double x0, double y0, double x1, do
   p.height = height;
   p.bbox = {{x0, y0, x1, y1}};
   p.area = (x1 - x0) * (y1 - y0);
+  p.centroid = Eigen::Vector3d((x0 + x1) / 2, (y0 + y1) / 2, height);
   p.facing = facing;
   return p;
+}
+
+// One frame with no range noise: the step alone decides.
+void assignOneFrame(std::vector<HorizontalPlane>& planes, double step) {
+  SurfaceGroupingOptions options;
+  options.max_height_step = step;
+  SurfaceGrouping(options).assign(planes, 0.0, std::nullopt, std::nullopt);
 }
 
 TEST(SurfaceGrouping, PiecesOfOneSurfaceShareTheLargestPiecesId) {
@@ -29,7 +40,7 @@ TEST(SurfaceGrouping, PiecesOfOneSurfaceShareTheLargestPiecesId) {
       piece(3, 0.750, 3.0, 0.0, 4.0, 1.0),  // another table at the same height, elsewhere
       piece(5, 0.752, 0.1, 0.1, 0.3, 0.3, Facing::kDown),  // seen from below: not the top
   };
-  assignSurfaceIds(planes, 0.02);
+  assignOneFrame(planes, 0.02);
   EXPECT_EQ(planes[0].surface_id, 7);
   EXPECT_EQ(planes[1].surface_id, 7);
   EXPECT_EQ(planes[2].surface_id, 7);
@@ -41,10 +52,10 @@ TEST(SurfaceGrouping, PiecesOfOneSurfaceShareTheLargestPiecesId) {
 TEST(SurfaceGrouping, HeightsFurtherApartThanTheStepAreTwoSurfaces) {
   std::vector<HorizontalPlane> planes = {piece(0, 0.70, 0, 0, 1, 1),
                                          piece(1, 0.73, 0.5, 0, 1.2, 1)};
-  assignSurfaceIds(planes, 0.02);
+  assignOneFrame(planes, 0.02);
   EXPECT_EQ(planes[0].surface_id, 0);
   EXPECT_EQ(planes[1].surface_id, 1);
-  assignSurfaceIds(planes, 0.04);  // a coarser r_z joins them
+  assignOneFrame(planes, 0.04);  // a coarser r_z joins them
   EXPECT_EQ(planes[0].surface_id, 0);
   EXPECT_EQ(planes[1].surface_id, 0);
 }
@@ -53,10 +64,65 @@ TEST(SurfaceGrouping, AChainThatDriftsFromTheLargestPieceKeepsItsEnd) {
   // 0.750 - 0.765 - 0.780: each within 2 cm of the next, the last 3 cm from the largest.
   std::vector<HorizontalPlane> planes = {piece(0, 0.750, 0, 0, 2, 2), piece(1, 0.765, 1.5, 0, 3, 1),
                                          piece(2, 0.780, 2.8, 0, 3.5, 1)};
-  assignSurfaceIds(planes, 0.02);
+  assignOneFrame(planes, 0.02);
   EXPECT_EQ(planes[0].surface_id, 0);
   EXPECT_EQ(planes[1].surface_id, 0);
   EXPECT_EQ(planes[2].surface_id, 2);
+}
+
+// A floor 1.2 m below a depth camera, read in two pieces 3 cm apart in height: far away that
+// is the camera's noise (σ 1.2 + 1.9 (d − 0.4)² mm: 22 and 27 mm at 3.7 and 4.1 m, 34 mm for a
+// difference), close by it is not (at 1.2 m σ is 2.4 mm: 3 cm is more than r_z, a thing 3 cm up).
+TEST(SurfaceGrouping, HowFarApartOneSurfacesPiecesMayBeFollowsTheNoiseAtTheirRange) {
+  const Eigen::Vector3d camera(0, 0, 1.2);
+  SurfaceGrouping grouping;  // r_z 0.02
+  std::vector<HorizontalPlane> far = {piece(0, 0.00, 3.0, -0.5, 4.0, 0.5),
+                                      piece(1, 0.03, 3.5, 0.3, 4.2, 0.9)};
+  grouping.assign(far, 0.0, camera, RangeNoise::depthCamera(), false);
+  EXPECT_EQ(far[1].surface_id, 0) << "3 cm at 3.7-4.1 m is within the noise of one surface";
+  std::vector<HorizontalPlane> near = {piece(0, 0.00, 0.2, -0.5, 1.0, 0.5),
+                                       piece(1, 0.03, 0.6, 0.3, 1.2, 0.9)};
+  grouping.assign(near, 1.0, camera, RangeNoise::depthCamera(), false);
+  EXPECT_EQ(near[1].surface_id, 1) << "3 cm at 1.3 m is a thing 3 cm up";
+  // Without a noise model (or a viewpoint) the step alone decides, far away too.
+  grouping.assign(far, 2.0, std::nullopt, RangeNoise::depthCamera(), false);
+  EXPECT_EQ(far[1].surface_id, 1);
+  grouping.assign(far, 3.0, camera, std::nullopt, false);
+  EXPECT_EQ(far[1].surface_id, 1);
+}
+
+// A table top seen whole, then cut by a box standing on it into a large piece and a strip beside
+// it whose box does not reach the large piece's (the box's shadow between them): where the
+// table was seen a moment ago says the strip is the table's. A second later, or after the clock
+// went back, that is no longer known.
+TEST(SurfaceGrouping, PiecesApartNowAreOneSurfaceWhereTheirIdsWereSeenOne) {
+  SurfaceGrouping grouping;
+  std::vector<HorizontalPlane> whole = {piece(7, 0.75, 0.0, 0.0, 1.2, 0.8)};
+  grouping.assign(whole, 10.0, std::nullopt, std::nullopt);
+  auto cut = [] {
+    return std::vector<HorizontalPlane>{piece(7, 0.75, 0.0, 0.0, 0.8, 0.8),
+                                        piece(12, 0.755, 1.0, 0.0, 1.2, 0.8)};
+  };
+  // The strip's own id was seen across the table a moment ago (the tracker kept it apart).
+  std::vector<HorizontalPlane> strip_seen = {piece(12, 0.755, 0.5, 0.0, 1.2, 0.8)};
+  grouping.assign(strip_seen, 10.2, std::nullopt, std::nullopt);
+  std::vector<HorizontalPlane> now = cut();
+  grouping.assign(now, 10.4, std::nullopt, std::nullopt);
+  EXPECT_EQ(now[1].surface_id, 7) << "the strip's id was seen where the table is";
+  // Told not to remember, the frame's own boxes alone decide: they do not meet.
+  now = cut();
+  SurfaceGrouping fresh;
+  fresh.assign(now, 10.4, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(now[1].surface_id, 12);
+  // Over a second after those frames, the earlier boxes are forgotten.
+  now = cut();
+  grouping.assign(now, 12.0, std::nullopt, std::nullopt);
+  EXPECT_EQ(now[1].surface_id, 12);
+  // A clock that went back forgets them too.
+  grouping.assign(strip_seen, 20.0, std::nullopt, std::nullopt);
+  now = cut();
+  grouping.assign(now, 5.0, std::nullopt, std::nullopt);
+  EXPECT_EQ(now[1].surface_id, 12);
 }
 
 }  // namespace

@@ -61,6 +61,10 @@ struct Result {
   // input point the index into `objects` or -1. Each plane's free_area is set too.
   std::vector<StandingObject> objects;
   std::vector<std::int32_t> point_objects;
+  // The sensor's range noise the frame was judged with: ObjectParams::noise when given, else a
+  // LiDAR's for a rings × azimuth layout or an unorganized cloud wider than a depth camera sees
+  // (10 m), a depth camera's otherwise.
+  RangeNoise noise = RangeNoise::depthCamera();
 
   // Input indices of the points of plane `index`.
   std::vector<std::uint32_t> pointsOf(std::size_t index) const;

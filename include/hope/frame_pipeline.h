@@ -27,6 +27,7 @@ namespace hope {
 
 class UpEstimator;
 class UpSmoother;
+class SurfaceGrouping;
 struct FloorMap;
 
 // Up from the scene (up_estimation.h).
@@ -236,7 +237,8 @@ class FramePipeline {
   std::optional<double> last_level_stamp_;  // the last frame whose own scene gave up
   PlaneTracker tracker_;
   SurfaceMap map_;
-  std::unique_ptr<FloorMap> floor_map_;  // Identity::kMap: the frames' floor grids, overlaid
+  std::unique_ptr<FloorMap> floor_map_;        // Identity::kMap: the frames' floor grids, overlaid
+  std::unique_ptr<SurfaceGrouping> surfaces_;  // the pieces of one surface (surface_id)
   struct GravitySample {
     double stamp;
     Eigen::Vector3d force;

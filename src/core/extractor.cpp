@@ -171,14 +171,17 @@ Result Extractor::extract(const PointsView& cloud, const Orientation& orientatio
   }
   result.timings.description_ms += stage.lap();
 
+  // The sensor's noise, when not given: a LiDAR's for a rings × azimuth layout or an
+  // unorganized cloud wider than a depth camera sees (10 m), a depth camera's otherwise.
+  if (outputs.object_params.noise) {
+    result.noise = *outputs.object_params.noise;
+  } else {
+    const bool scan = cloud.organized() ? !cloud.imageLike() : extent.maxCoeff() > 10.0;
+    result.noise = scan ? RangeNoise::lidar() : RangeNoise::depthCamera();
+  }
   if (outputs.objects) {
-    // The sensor's noise, when not given: a LiDAR's for a rings × azimuth layout or an
-    // unorganized cloud wider than a depth camera sees (10 m), a depth camera's otherwise.
     ObjectParams object_params = outputs.object_params;
-    if (!object_params.noise) {
-      const bool scan = cloud.organized() ? !cloud.imageLike() : extent.maxCoeff() > 10.0;
-      object_params.noise = scan ? RangeNoise::lidar() : RangeNoise::depthCamera();
-    }
+    object_params.noise = result.noise;
     describeWhatStands(result, object_params, viewpoint);
   }
   result.timings.objects_ms = stage.lap();

@@ -108,7 +108,8 @@ FramePipeline::FramePipeline(const PipelineOptions& options)
       up_smoother_(std::make_unique<UpSmoother>(options.level_smoothing)),
       tracker_(trackerOptionsFor(options.identity)),
       map_(surfaceMapOptionsFor(options.extraction)),
-      floor_map_(std::make_unique<FloorMap>()) {}
+      floor_map_(std::make_unique<FloorMap>()),
+      surfaces_(std::make_unique<SurfaceGrouping>(surfaceGroupingOptionsFor(options.extraction))) {}
 
 FramePipeline::~FramePipeline() = default;
 
@@ -149,6 +150,9 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
     *up_smoother_ = UpSmoother(options.level_smoothing);
     last_level_stamp_.reset();
   }
+  if (options.extraction.r_z != options_.extraction.r_z) {
+    *surfaces_ = SurfaceGrouping(surfaceGroupingOptionsFor(options.extraction));
+  }
   options_ = options;
   return notes;
 }
@@ -167,6 +171,7 @@ void FramePipeline::restart() {
   gravity_.clear();
   up_smoother_->reset();
   last_level_stamp_.reset();
+  surfaces_->reset();
 }
 
 std::optional<Eigen::Vector3d> FramePipeline::smoothedUp() const {
@@ -311,7 +316,10 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   }
   frame.identity_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  assignSurfaceIds(frame.result.planes, options_.extraction.r_z);
+  // The noise the extraction judged the sensor by: how far one surface's pieces may differ in
+  // height at their ranges.
+  surfaces_->assign(frame.result.planes, frame.stamp, orientation.viewpoint(), frame.result.noise,
+                    identify);
   // The objects were found under the frame's own plane indices; the planes (in the same order)
   // now carry their persistent ids.
   for (StandingObject& o : frame.result.objects) {

@@ -1,16 +1,19 @@
 #include "hope/surface_grouping.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <numeric>
+#include <unordered_map>
 
 namespace hope {
 
 namespace {
 
-bool boxesOverlap(const HorizontalPlane& a, const HorizontalPlane& b) {
-  return a.bbox[0] < b.bbox[2] && b.bbox[0] < a.bbox[2] && a.bbox[1] < b.bbox[3] &&
-         b.bbox[1] < a.bbox[3];
+using Box = std::array<double, 4>;
+
+bool boxesOverlap(const Box& a, const Box& b) {
+  return a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3];
 }
 
 std::size_t root(std::vector<std::size_t>& parent, std::size_t i) {
@@ -20,17 +23,61 @@ std::size_t root(std::vector<std::size_t>& parent, std::size_t i) {
 
 }  // namespace
 
-void assignSurfaceIds(std::vector<HorizontalPlane>& planes, double max_height_step) {
+SurfaceGroupingOptions surfaceGroupingOptionsFor(const Params& params) {
+  SurfaceGroupingOptions options;
+  options.max_height_step = params.r_z;
+  return options;
+}
+
+SurfaceGrouping::SurfaceGrouping(const SurfaceGroupingOptions& options) : options_(options) {}
+
+void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
+                             const std::optional<Eigen::Vector3d>& viewpoint,
+                             const std::optional<RangeNoise>& noise, bool remember) {
   const std::size_t n = planes.size();
+  if (!recent_.empty() && stamp < recent_.back().stamp) recent_.clear();
+  while (!recent_.empty() && recent_.front().stamp < stamp - options_.memory_s) {
+    recent_.pop_front();
+  }
+  // Each plane's extent: its box now and its id's boxes of the last memory_s seconds.
+  std::unordered_map<int, std::vector<Box>> earlier;
+  if (remember) {
+    for (const Seen& seen : recent_) {
+      for (const auto& [id, box] : seen.boxes) earlier[id].push_back(box);
+    }
+  }
+  std::vector<std::vector<Box>> extent(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    extent[i].push_back(planes[i].bbox);
+    const auto it = earlier.find(planes[i].id);
+    if (it != earlier.end())
+      extent[i].insert(extent[i].end(), it->second.begin(), it->second.end());
+  }
+  // σ of each piece's height: the sensor's range noise at its centroid's range.
+  std::vector<double> sigma(n, 0.0);
+  if (noise && viewpoint) {
+    for (std::size_t i = 0; i < n; ++i) {
+      sigma[i] = noise->at((planes[i].centroid - *viewpoint).norm());
+    }
+  }
+  auto oneReading = [&](std::size_t a, std::size_t b) {
+    const double tolerance = std::max(options_.max_height_step, std::hypot(sigma[a], sigma[b]));
+    return std::fabs(planes[a].height - planes[b].height) <= tolerance;
+  };
+  auto extentsOverlap = [&](std::size_t a, std::size_t b) {
+    for (const Box& p : extent[a]) {
+      for (const Box& q : extent[b]) {
+        if (boxesOverlap(p, q)) return true;
+      }
+    }
+    return false;
+  };
   std::vector<std::size_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
-  // A frame holds tens of planes: every pair is cheap.
+  // A frame holds tens of planes and a second of frames tens of boxes an id: every pair is cheap.
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
-      const HorizontalPlane& a = planes[i];
-      const HorizontalPlane& b = planes[j];
-      if (a.facing == b.facing && std::fabs(a.height - b.height) <= max_height_step &&
-          boxesOverlap(a, b)) {
+      if (planes[i].facing == planes[j].facing && oneReading(i, j) && extentsOverlap(i, j)) {
         parent[root(parent, i)] = root(parent, j);
       }
     }
@@ -44,12 +91,17 @@ void assignSurfaceIds(std::vector<HorizontalPlane>& planes, double max_height_st
       best = i;
     }
   }
-  // A chain of pieces each within the step of the next may drift from the largest: one more
-  // than the step from it is not at the surface's height, and stays its own.
+  // A chain of pieces each one reading with the next may drift from the largest: one that is
+  // not one reading with it is not at the surface's height, and stays its own.
   for (std::size_t i = 0; i < n; ++i) {
-    const HorizontalPlane& named = planes[largest[root(parent, i)]];
-    planes[i].surface_id =
-        std::fabs(named.height - planes[i].height) <= max_height_step ? named.id : planes[i].id;
+    const std::size_t named = largest[root(parent, i)];
+    planes[i].surface_id = oneReading(i, named) ? planes[named].id : planes[i].id;
+  }
+  if (remember) {
+    Seen seen{stamp, {}};
+    seen.boxes.reserve(n);
+    for (const HorizontalPlane& plane : planes) seen.boxes.emplace_back(plane.id, plane.bbox);
+    recent_.push_back(std::move(seen));
   }
 }
 

@@ -4,18 +4,68 @@
 // its own id; a robot asking "which surface is this?" wants one answer for all of them.
 #pragma once
 
+#include <array>
+#include <deque>
+#include <optional>
+#include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "hope/params.h"
 #include "hope/plane.h"
 
 namespace hope {
 
-// Sets each plane's surface_id: planes facing the same way whose heights differ by at most
-// `max_height_step` (Z clustering's own step, r_z, §2.3) and whose bounding boxes overlap are
-// pieces of one surface (transitively), and carry the id of the largest of them (its area; the
-// lower id on a tie), which keeps the surface's id as long as the largest piece keeps its own;
-// a piece more than the step from the largest's height (at the end of a chain) keeps its own.
-// A plane alone is its own surface: surface_id = id.
-void assignSurfaceIds(std::vector<HorizontalPlane>& planes, double max_height_step);
+struct SurfaceGroupingOptions {
+  // Pieces whose heights differ by at most this are one surface at any range: Z clustering's
+  // own step (r_z, §2.3). Further away, where the sensor's range noise σ exceeds it, Z
+  // clustering itself cuts one surface's points into slices about σ apart, so two pieces are
+  // one surface when their heights differ by at most (σ(d_a)² + σ(d_b)²)^½, the noise of a
+  // difference of readings at their ranges d (assign()): a depth camera's floor read 3 and 4 m
+  // away (σ 14 and 28 mm there) differs by centimetres in one frame. One σ, not more: the
+  // extraction tells surfaces 2 cm apart at 2.5 m (a box on a table) by their means, and they
+  // stay apart.
+  double max_height_step = 0.02;
+  // Where a piece lies is where its id was seen within this many seconds (this frame
+  // included): pieces the frame shows apart (an occluder's shadow between them) but whose ids'
+  // recent extents overlap are one surface. A second: a sensor moves little in one, so the
+  // boxes still hold in a frame that follows it (an IMU's, an accelerometer's), as the
+  // levelling's hold assumes (PipelineOptions::level_hold_s).
+  double memory_s = 1.0;
+};
+
+// The grouping matched to an extraction's parameters: its step r_z.
+SurfaceGroupingOptions surfaceGroupingOptionsFor(const Params& params);
+
+class SurfaceGrouping {
+ public:
+  explicit SurfaceGrouping(const SurfaceGroupingOptions& options = SurfaceGroupingOptions());
+
+  // Sets each plane's surface_id: planes facing the same way whose heights are one reading
+  // (above) and whose ids' extents overlap are pieces of one surface (transitively), and carry
+  // the id of the largest of them (its area; the lower id on a tie), which keeps the surface's
+  // id as long as the largest piece keeps its own; a piece whose height is not one reading
+  // with the largest's (at the end of a chain) keeps its own. A plane alone is its own
+  // surface: surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
+  // range of each piece) and `noise` its range noise; without either, the step alone.
+  // `remember`: the planes' ids are persistent (a tracker's or a map's),
+  // and this frame's boxes extend their extents for the frames to come; a stamp older than
+  // the last forgets every extent (a looping bag).
+  void assign(std::vector<HorizontalPlane>& planes, double stamp,
+              const std::optional<Eigen::Vector3d>& viewpoint,
+              const std::optional<RangeNoise>& noise, bool remember = true);
+  // Forgets every id's extent.
+  void reset() { recent_.clear(); }
+  const SurfaceGroupingOptions& options() const { return options_; }
+
+ private:
+  struct Seen {
+    double stamp;
+    std::vector<std::pair<int, std::array<double, 4>>> boxes;  // (id, bbox) of each plane
+  };
+  SurfaceGroupingOptions options_;
+  std::deque<Seen> recent_;
+};
 
 }  // namespace hope

@@ -251,6 +251,38 @@ TEST_F(Sequence, PosesThatNeverMoveGetTheTrackerNotTheMap) {
   EXPECT_EQ(r.output.find("position never changes"), std::string::npos) << r.output;
 }
 
+// --every N keeps the 1st, the N+1-th, ... frame of the folder (depth.txt's order): 6 frames at
+// --every 4 are the 1st and the 5th, by their stamps, and the table keeps its id across them.
+TEST_F(Sequence, EveryNthFrameOnly) {
+  makeTumSequence();
+  std::vector<std::string> stamps;
+  std::istringstream listing(slurp(dir_ + "/seq/depth.txt"));
+  for (std::string line; std::getline(listing, line);) {
+    if (!line.empty() && line[0] != '#') stamps.push_back(line.substr(0, line.find(' ')));
+  }
+  ASSERT_EQ(stamps.size(), 6u);
+  const CliRun r = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --every 4 --jsonl " + dir_ +
+                       "/out.jsonl --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 frame(s)"), std::string::npos) << r.output;
+  std::istringstream lines(slurp(dir_ + "/out.jsonl"));
+  std::vector<std::string> written;
+  for (std::string line; std::getline(lines, line);) {
+    const std::string key = "{\"stamp\": ";
+    ASSERT_EQ(line.rfind(key, 0), 0u);
+    written.push_back(line.substr(key.size(), line.find(',') - key.size()));
+  }
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_DOUBLE_EQ(std::stod(written[0]), std::stod(stamps[0]));
+  EXPECT_DOUBLE_EQ(std::stod(written[1]), std::stod(stamps[4]));
+  const auto frames = readJsonLines(dir_ + "/out.jsonl");
+  ASSERT_GE(idNear(frames[0], 0.75), 0);
+  EXPECT_EQ(idNear(frames[1], 0.75), idNear(frames[0], 0.75));
+  const CliRun bad = run("--sequence " + dir_ + "/seq " + intrinsics_ + " --every 0");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--every must be a whole number"), std::string::npos) << bad.output;
+}
+
 TEST_F(Sequence, PcdFolderNamedByTimestamp) {
   // Three clouds of a table top at 0.7 m and a floor, named by stamp, poses by stamp.
   std::ofstream gt(dir_ + "/groundtruth.txt");

@@ -101,6 +101,9 @@ hope::tools::CommandLine commandLine() {
       .value("--level-hold", "S",
              "scene: seconds a frame with nothing level in view keeps the last up (default 1)")
       .value("--gravity-window", "S", "accelerometer: seconds of samples averaged (default 0.1)")
+      .value("--every", "N",
+             "every N-th frame only (the 1st, the N+1-th, ...): a robot that processes at a "
+             "lower rate, or keyframes (default 1: every frame)")
       .value("--max-time-difference", "S",
              "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
              "that close are skipped and counted")
@@ -598,7 +601,15 @@ int runSequence(const Options& o) {
   const double depth_scale = number(o, "--depth-scale", 5000);
   const std::uint64_t max_points = maxPoints(o);
 
-  const hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
+  hope::tools::SequenceListing listing = hope::tools::listSequence(seq);
+  const int every = wholeNumber(o, "--every", 1, 1, 1000000);
+  if (every > 1) {
+    std::vector<hope::tools::SequenceFrame> kept;
+    for (std::size_t f = 0; f < listing.frames.size(); f += static_cast<std::size_t>(every)) {
+      kept.push_back(listing.frames[f]);
+    }
+    listing.frames = std::move(kept);
+  }
   // Poses whose position never changes are an orientation written as poses (or a camera that
   // only turns): they cannot put a moving camera's surfaces in one fixed frame, and the map
   // would take every surface seen from a new place for a new one. The tracker by default; a
@@ -821,7 +832,7 @@ int run(const Options& o) {
   for (const char* sequence_only :
        {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
         "--orientation-source", "--level-smoothing", "--level-hold", "--gravity-window",
-        "--overlay-dir", "--strict", "--map", "--map-extents"}) {
+        "--overlay-dir", "--strict", "--map", "--map-extents", "--every"}) {
     if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
     }

@@ -431,6 +431,36 @@ TEST(FramePipeline, TimeGoingBackRestartsTheTracksAndNeverReusesAnId) {
   }
 }
 
+// The map needs the sensor's pose in a fixed frame. Poses that turn the sensor by more than 10°
+// but never move it (an orientation written as a pose, a tf with a fixed translation) are said
+// once, in the frame's warnings (every front-end shows them); poses that move it are not; the
+// tracker does not need them.
+TEST(FramePipeline, TheMapWarnsOnceWhenItsPosesTurnTheSensorButNeverMoveIt) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 160);
+  auto warningsOver = [&](Identity identity, bool moving) {
+    PipelineOptions options;
+    options.identity = identity;
+    FramePipeline pipeline(options);
+    int warned = 0;
+    for (int f = 0; f < 6; ++f) {
+      // Turned 4° a frame about the world's vertical: 20° by the last.
+      Eigen::Isometry3d pose =
+          Eigen::AngleAxisd(4.0 * f * kDegree, Eigen::Vector3d::UnitZ()) * frames[0].camera.pose;
+      pose.translation() = moving ? Eigen::Vector3d(0.05 * f, 0.0, 1.5) : Eigen::Vector3d::Zero();
+      const Frame frame = pipeline.process(PointsView::of(frames[0].cloud), f / 30.0,
+                                           Orientation::fromTransform(pose));
+      EXPECT_TRUE(frame.processed) << frame.skipped;
+      for (const std::string& w : frame.result.warnings) {
+        warned += w.find("its position never changed") != std::string::npos;
+      }
+    }
+    return warned;
+  };
+  EXPECT_EQ(warningsOver(Identity::kMap, false), 1);
+  EXPECT_EQ(warningsOver(Identity::kMap, true), 0);
+  EXPECT_EQ(warningsOver(Identity::kImproved, false), 0);
+}
+
 TEST(FramePipeline, PlacementsAreAnsweredOnTheFrameAskedAfterLaterFrames) {
   const std::vector<RenderedCloud> frames = renderPan(2, 640);
   FramePipeline pipeline;

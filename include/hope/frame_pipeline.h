@@ -245,6 +245,13 @@ class FramePipeline {
   };
   std::deque<GravitySample> gravity_;
   std::optional<double> last_stamp_;
+  // The map's check of its input: the first frame's sensor pose, whether the sensor has moved
+  // since, and whether the warning was given (mapInputWarning()).
+  std::optional<Eigen::Isometry3d> first_map_pose_;
+  bool map_sensor_moved_ = false, map_warned_ = false;
+  // A warning, once, when the map's poses turn the sensor but never move it (an orientation
+  // written as a pose, a tf whose translation is fixed): the map needs a fixed frame.
+  std::optional<std::string> mapInputWarning(const Orientation& orientation);
   PipelineCounters counters_;
 };
 

@@ -164,6 +164,27 @@ std::size_t FramePipeline::mapSize() const { return map_.size(); }
 void FramePipeline::resetMap() {
   map_.reset();
   *floor_map_ = FloorMap();
+  first_map_pose_.reset();
+  map_sensor_moved_ = map_warned_ = false;
+}
+
+std::optional<std::string> FramePipeline::mapInputWarning(const Orientation& orientation) {
+  const Eigen::Isometry3d& pose = orientation.sensorToReference();
+  if (!first_map_pose_) first_map_pose_ = pose;
+  // A hand-held or mounted sensor's position changes by more than a millimetre between any
+  // two poses a tracking system gives while it turns by 10°; an orientation written as a pose
+  // keeps it exactly.
+  map_sensor_moved_ =
+      map_sensor_moved_ || (pose.translation() - first_map_pose_->translation()).norm() > 1e-3;
+  const double turned_deg =
+      Eigen::AngleAxisd(first_map_pose_->linear().transpose() * pose.linear()).angle() * 180.0 /
+      M_PI;
+  if (map_sensor_moved_ || map_warned_ || turned_deg < 10.0) return std::nullopt;
+  map_warned_ = true;
+  return "tracking map: the sensor turned " + std::to_string(static_cast<int>(turned_deg)) +
+         " degrees and its position never changed: an orientation only (an IMU, rotation-only "
+         "poses, a tf with a fixed translation)? The surface map needs the sensor's pose in a "
+         "fixed frame; if the sensor moves, its ids will not hold (use tracking improved)";
 }
 
 void FramePipeline::restart() {
@@ -310,6 +331,7 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   const auto start = std::chrono::steady_clock::now();
   // Not identified: the ids stay the extraction order, the objects' plane ids already theirs.
   if (identify && options_.identity == Identity::kMap) {
+    if (auto warning = mapInputWarning(orientation)) frame.result.warnings.push_back(*warning);
     frame.events = map_.update(frame.result.planes, frame.stamp, orientation.viewpoint());
   } else if (identify) {
     frame.events = tracker_.update(frame.result.planes, frame.stamp);

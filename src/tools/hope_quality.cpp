@@ -46,7 +46,8 @@ hope::tools::CommandLine commandLine() {
              "(objects per frame on kitchen_dev and studyroom_dev); default all")
       .value("--data", "DIR", "the shared data (default $HOPE_SHARED_DATA, else ../shared/data)")
       .flag("--verbose",
-            "on stderr: each staircase view's refinement, and each view answered wrong");
+            "on stderr: each staircase view's refinement, each view answered wrong, and each "
+            "of the demo room's objects with the thing it lies on");
   return cl;
 }
 
@@ -78,7 +79,7 @@ hope::evaluation::HooverScores printHoover(const std::string& prefix, const std:
 }
 
 // The demo room (the first picture a newcomer sees, scripts/demo.sh): hope_synth's frame.
-void demoRoomFigures() {
+void demoRoomFigures(bool verbose) {
   using namespace hope::synthetic;
   const Scene room = demoRoom();
   const Camera camera = demoCamera();
@@ -134,6 +135,20 @@ void demoRoomFigures() {
     double most = 0;
     for (int t = 0; t < demo::kThings; ++t) most = std::max(most, shared[t][o]);
     false_objects += most < 0.5 * object_size[o];
+  }
+  if (verbose) {  // each object: the thing most of its points are on, and that share
+    static const char* names[demo::kThings] = {"table", "cabinet", "stair block", "book",
+                                               "ramp",  "ball",    "cone",        "tube"};
+    for (int o = 0; o < objects; ++o) {
+      int best = 0;
+      for (int t = 1; t < demo::kThings; ++t) best = shared[t][o] > shared[best][o] ? t : best;
+      std::cerr << "demo object " << o << ": " << object_size[o] << " points, "
+                << 100.0 * shared[best][o] / std::max(1.0, object_size[o]) << " % " << names[best]
+                << " (" << shared[best][o] / std::max(1.0, thing_size[best]) * 100
+                << " % of it), on plane " << result.objects[o].plane_index << ", box at "
+                << result.objects[o].box_centre.transpose() << " size "
+                << result.objects[o].box_size.transpose() << "\n";
+    }
   }
   print("demo.objects.count", objects);
   print("demo.objects.wov", total > 0 ? weighted / total : 0.0);
@@ -392,7 +407,7 @@ int run(const ParsedArgs& args) {
                                : data_env && *data_env     ? data_env
                                                            : "../shared/data";
   if (part == "all" || part == "synthetic") {
-    demoRoomFigures();
+    demoRoomFigures(args.flag("--verbose"));
     patternFigures();
     lidarFigures();
     staircaseFigures(args.flag("--verbose"));

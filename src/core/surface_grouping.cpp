@@ -35,13 +35,13 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
                              const std::optional<Eigen::Vector3d>& viewpoint,
                              const std::optional<RangeNoise>& noise, bool remember) {
   const std::size_t n = planes.size();
-  if (!recent_.empty() && stamp < recent_.back().stamp) recent_.clear();
-  while (!recent_.empty() && recent_.front().stamp < stamp - options_.memory_s) {
-    recent_.pop_front();
-  }
   // Each plane's extent: its box now and its id's boxes of the last memory_s seconds.
   std::unordered_map<int, std::vector<Box>> earlier;
   if (remember) {
+    if (!recent_.empty() && stamp < recent_.back().stamp) recent_.clear();
+    while (!recent_.empty() && recent_.front().stamp < stamp - options_.memory_s) {
+      recent_.pop_front();
+    }
     for (const Seen& seen : recent_) {
       for (const auto& [id, box] : seen.boxes) earlier[id].push_back(box);
     }

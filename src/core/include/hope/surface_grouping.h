@@ -49,15 +49,15 @@ class SurfaceGrouping {
   // with the largest's (at the end of a chain) keeps its own. A plane alone is its own
   // surface: surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
   // range of each piece) and `noise` its range noise; without either, the step alone.
-  // `remember`: the planes' ids are persistent (a tracker's or a map's),
-  // and this frame's boxes extend their extents for the frames to come; a stamp older than
-  // the last forgets every extent (a looping bag).
+  // `remember`: the planes' ids are persistent (a tracker's or a map's), and this frame's
+  // boxes extend their extents for the frames to come; a stamp older than the last forgets
+  // every extent (a looping bag). Without it (a frame answered apart from the stream) the
+  // frame's own boxes alone decide, and nothing remembered changes.
   void assign(std::vector<HorizontalPlane>& planes, double stamp,
               const std::optional<Eigen::Vector3d>& viewpoint,
               const std::optional<RangeNoise>& noise, bool remember = true);
   // Forgets every id's extent.
   void reset() { recent_.clear(); }
-  const SurfaceGroupingOptions& options() const { return options_; }
 
  private:
   struct Seen {

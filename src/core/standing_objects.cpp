@@ -231,35 +231,66 @@ std::vector<T> picked(const std::vector<T>& values, const std::vector<std::int32
   return out;
 }
 
-// A taller object pushed against a lower one rises beside the lower one's top, and what of it
-// stands over that top's box (the strip along the edge they share) was given to the top. Such
-// a part, on a raised plane, whose xy box touches that of an object on a lower plane rising
-// higher than the raised plane, is that object's (the highest such): it is joined to it, and
-// the objects are numbered afresh (in the order of their first point), each with the larger
-// crease patch of the two and joined across a gap when either was. A cup on a book is not
-// joined to the book's sides, which rise no higher than the book.
-void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
-                            const std::vector<std::uint8_t>& raised,
-                            const Eigen::Vector3d& local_origin, double margin,
-                            std::vector<std::int32_t>& object_of_point,
-                            std::vector<int>& object_plane, std::vector<double>& object_patch,
-                            std::vector<std::uint8_t>& joined_across_gap) {
+// Objects that are pieces of one thing, joined before the crease split (each joined object
+// keeps the larger crease patch of its pieces, and is joined across a gap when any was); the
+// objects are then numbered afresh in the order of their first point.
+// - A side beside a top: a taller object pushed against a lower one rises beside the lower
+//   one's top, and what of it stands over that top's box (the strip along the edge they share)
+//   was given to the top. Such a part, on a raised plane, whose xy box touches that of an
+//   object on a lower plane rising higher than the raised plane, is that object's (the highest
+//   such). A cup on a book is not joined to the book's sides, which rise no higher than it.
+// - A side between two tops: a part on a raised plane that rises to another top of the thing
+//   that plane is a top of, within a vertical cell (2 · margin), is that thing's side between
+//   them (a stair block's riser whose middle something nearer hides). Across a gap. A cup on a
+//   book reaches no other top of the book.
+void joinPiecesOfOneThing(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
+                          const std::vector<std::int32_t>& point_labels,
+                          const std::vector<std::uint8_t>& raised,
+                          const Eigen::Vector3d& local_origin, double margin,
+                          std::vector<std::int32_t>& object_of_point,
+                          std::vector<int>& object_plane, std::vector<double>& object_patch,
+                          std::vector<std::uint8_t>& joined_across_gap) {
   const std::size_t n = object_plane.size();
-  bool any_raised = false;
-  for (int p : object_plane) any_raised = any_raised || raised[p];
-  if (!any_raised) return;
+  if (n == 0 || std::find(raised.begin(), raised.end(), 1) == raised.end()) return;
   std::vector<Eigen::AlignedBox3f> box(n);
+  // Per raised plane and object, how many of the plane's points the object holds; the object
+  // holding most is the thing the plane is a top of.
+  std::vector<std::size_t> top_points(planes.size() * n, 0);
   for (std::size_t i = 0; i < object_of_point.size(); ++i) {
-    if (object_of_point[i] >= 0) box[object_of_point[i]].extend(points[i]);
+    const std::int32_t p = point_labels[i], o = object_of_point[i];
+    if (o < 0) continue;
+    box[o].extend(points[i]);
+    if (p >= 0 && raised[p]) ++top_points[static_cast<std::size_t>(p) * n + o];
   }
+  std::vector<std::int32_t> thing_of_top(planes.size(), -1);
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const auto first = top_points.begin() + static_cast<std::ptrdiff_t>(p * n);
+    const auto most = std::max_element(first, first + static_cast<std::ptrdiff_t>(n));
+    if (*most > 0) thing_of_top[p] = static_cast<std::int32_t>(most - first);
+  }
+  // Each object joined into another (into[o] != o) or its own thing; joins go to a thing's
+  // root, and never to the object itself, so they form a forest.
   std::vector<std::int32_t> into(n);
   std::iota(into.begin(), into.end(), 0);
+  const auto thingOf = [&](std::int32_t o) {
+    while (o >= 0 && into[o] != o) o = into[o];
+    return o;
+  };
+  std::vector<std::uint8_t> across(n, 0);  // joined across a hidden gap
   bool joined = false;
+  const auto join = [&](std::size_t o, std::int32_t thing, bool across_gap) {
+    const std::int32_t root = thingOf(thing), own = thingOf(static_cast<std::int32_t>(o));
+    if (root < 0 || root == own) return;
+    into[own] = root;
+    across[own] = across[own] || across_gap;
+    joined = true;
+  };
   for (std::size_t r = 0; r < n; ++r) {
     if (!raised[object_plane[r]]) continue;
     const double top_height = planes[object_plane[r]].height - local_origin.z();
     // Of the objects it touches that rise past the top, the highest: the one it is a side of.
     float highest = static_cast<float>(top_height + margin);
+    std::int32_t side_of = -1;
     for (std::size_t l = 0; l < n; ++l) {
       if (l == r || planes[object_plane[l]].height >= planes[object_plane[r]].height ||
           box[l].max().z() <= highest) {
@@ -268,18 +299,31 @@ void rejoinRisingBesideTops(const AlignedPoints& points, const std::vector<Horiz
       const Eigen::Vector2f gap = (box[r].min().head<2>() - box[l].max().head<2>())
                                       .cwiseMax(box[l].min().head<2>() - box[r].max().head<2>());
       if (gap.maxCoeff() <= margin) {
-        into[r] = static_cast<std::int32_t>(l);
+        side_of = static_cast<std::int32_t>(l);
         highest = box[l].max().z();
-        joined = true;
+      }
+    }
+    if (side_of >= 0) join(r, side_of, false);
+  }
+  for (std::size_t r = 0; r < n; ++r) {
+    if (!raised[object_plane[r]] || into[r] != static_cast<std::int32_t>(r)) continue;
+    const std::int32_t thing = thingOf(thing_of_top[object_plane[r]]);
+    if (thing < 0 || thing == static_cast<std::int32_t>(r)) continue;
+    for (std::size_t q = 0; q < planes.size(); ++q) {
+      if (planes[q].height > planes[object_plane[r]].height && thingOf(thing_of_top[q]) == thing &&
+          std::fabs(box[r].max().z() - (planes[q].height - local_origin.z())) <= 2 * margin) {
+        join(r, thing, true);
+        break;
       }
     }
   }
   if (!joined) return;
+  for (std::size_t o = 0; o < n; ++o) into[o] = thingOf(static_cast<std::int32_t>(o));
   std::vector<double> patch = object_patch;
   std::vector<std::uint8_t> gap = joined_across_gap;
   for (std::size_t o = 0; o < n; ++o) {
     patch[into[o]] = std::max(patch[into[o]], object_patch[o]);
-    gap[into[o]] |= joined_across_gap[o];
+    gap[into[o]] |= joined_across_gap[o] | across[o];
   }
   const std::vector<std::int32_t> origin = renumberObjects(into, object_of_point);
   object_plane = picked(object_plane, origin);
@@ -619,7 +663,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   }
 
   // Per component: points, whether seeded, whether it holds a tall thing's top, its top and
-  // bottom above its plane, the sensor's noise over it, whether it was joined across a gap.
+  // bottom above its plane, the sensor's noise over it, whether it was joined across a gap,
+  // its plane, its xy box and where its highest point is.
   struct Component {
     std::size_t points = 0;
     bool seeded = false;
@@ -628,20 +673,78 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     double bottom = std::numeric_limits<double>::infinity();
     double noise = 0.0;      // sum of σ over its points
     bool under_top = false;  // has points joined to a tall top across a gap
+    std::uint8_t support = 0;
+    Eigen::AlignedBox2f footprint;
+    Eigen::Vector3f highest = Eigen::Vector3f::Zero();
   };
   std::vector<Component> component(fine_keys.size());
-  for (std::uint32_t k = 0; k < candidates.size(); ++k) {
-    const ObjectPoint& c = candidates[k];
-    if (cell_of[k] == kNoCell) continue;
-    Component& into = component[components.find(cell_of[k])];
-    ++into.points;
-    into.seeded = into.seeded || c.seed;
-    into.tall_top = into.tall_top || tallTopOf(k) >= 0;
-    const double above = points[c.index].z() - local_height[c.support];
-    into.top = std::max(into.top, above);
-    into.bottom = std::min(into.bottom, above);
-    into.noise += c.noise;
-    into.under_top = into.under_top || c.under_top >= 0;
+  const auto gatherComponents = [&] {
+    std::fill(component.begin(), component.end(), Component());
+    for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+      const ObjectPoint& c = candidates[k];
+      if (cell_of[k] == kNoCell) continue;
+      Component& into = component[components.find(cell_of[k])];
+      const Eigen::Vector3f q = points[c.index];
+      ++into.points;
+      into.seeded = into.seeded || c.seed;
+      into.tall_top = into.tall_top || tallTopOf(k) >= 0;
+      const double above = q.z() - local_height[c.support];
+      if (above > into.top) into.highest = q;
+      into.top = std::max(into.top, above);
+      into.bottom = std::min(into.bottom, above);
+      into.noise += c.noise;
+      into.under_top = into.under_top || c.under_top >= 0;
+      into.support = c.support;
+      into.footprint.extend(q.head<2>());
+    }
+  };
+  gatherComponents();
+  // A slender upright (twice as tall as it is wide or more) standing under a tall thing's top
+  // and seen rising until that thing hides it from the sensor is the thing's leg: a table's
+  // far legs, whose upper part the table's edge hides. Whether it rises on behind the edge
+  // cannot be seen; a slender upright reaching up into the hidden space under a top is taken
+  // as holding it up. One whose top is seen (the sight line to a vertical cell above it passes
+  // no point of the thing) is a thing of its own, under the table or not.
+  if (eye) {
+    // Whether a point of component `root` lies on the sight line to `target`, nearer than it:
+    // within its own cell (twice its noise, or its plane's sample cell) of the line.
+    const auto hiddenBy = [&](std::uint32_t root, const Eigen::Vector3f& target) {
+      const Eigen::Vector3f sight = target - *eye;
+      const float length = sight.norm();
+      if (!(length > 0)) return false;
+      const Eigen::Vector3f along = sight / length;
+      for (std::uint32_t k = 0; k < candidates.size(); ++k) {
+        if (cell_of[k] == kNoCell || components.find(cell_of[k]) != root) continue;
+        const Eigen::Vector3f to = points[candidates[k].index] - *eye;
+        const float depth = to.dot(along);
+        if (!(depth > 0 && depth < length)) continue;
+        const double reach =
+            std::max(2.0 * candidates[k].noise, sample_cell[candidates[k].support]);
+        if ((to - depth * along).norm() <= reach) return true;
+      }
+      return false;
+    };
+    bool joined_leg = false;
+    for (std::uint32_t root = 0; root < component.size(); ++root) {
+      const Component& c = component[root];
+      if (c.points < object_params.min_points || !c.seeded || c.tall_top || c.under_top) continue;
+      const double height = c.top - std::min(c.bottom, 0.0);
+      if (2 * c.footprint.sizes().maxCoeff() > height) continue;
+      for (std::size_t t = 0; t < supports.size(); ++t) {
+        if (tall_top_over[t] != c.support || top_cell[t] == kNoCell ||
+            c.highest.z() >= local_height[t] || !areas[t].contains(c.highest.x(), c.highest.y())) {
+          continue;
+        }
+        const std::uint32_t thing = components.find(top_cell[t]);
+        if (!hiddenBy(thing, c.highest + Eigen::Vector3f(0, 0, params.r_z))) continue;
+        components.join(root, thing);
+        joined_leg = true;
+        break;
+      }
+    }
+    // The thing keeps its leg through the crease split: its top's own points count as joined
+    // across a gap (under_top), so a part that touches no other stays with it.
+    if (joined_leg) gatherComponents();
   }
   // Objects in the order of their first point. What rises to max_height with no top of its
   // own was cut there: the foot of a wall, a partition, a pillar, not a thing on the plane.
@@ -677,10 +780,11 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     }
     result.point_objects[candidates[k].index] = object_of_component[root];
   }
-  // A taller thing's side rising beside a lower one's top joins the taller thing before both
-  // come apart at the crease between them, so that the side is seen whole.
-  rejoinRisingBesideTops(points, planes, raised, local_origin, margin, result.point_objects,
-                         object_plane, object_patch, joined_across_gap);
+  // Pieces of one thing join before the crease split: a taller thing's side rising beside a
+  // lower one's top joins the taller thing before both come apart at the crease between them,
+  // so that the side is seen whole; pieces seen apart join across what hides the middle.
+  joinPiecesOfOneThing(points, planes, point_labels, raised, local_origin, margin,
+                       result.point_objects, object_plane, object_patch, joined_across_gap);
   // Objects that touch come apart at the concave creases between them, which only a known
   // viewpoint tells from convex edges (a fold seen from the other side bends the other way).
   if (viewpoint && !object_plane.empty()) {

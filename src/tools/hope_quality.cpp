@@ -293,12 +293,16 @@ void staircaseFigures(bool verbose) {
 }
 
 // mOSD: the IoU of hope's best single plane with every labelled table-top point, gravity from
-// the labelled table (as hope_eval's section 6).
+// the labelled table (as hope_eval's section 6); and with that up turned 1° (an IMU's usual
+// error) towards each of 8 directions 45° apart, the worst of the 8 per scene: a 1.2 m table
+// then spans 2 cm of height, r_z, and must not be cut.
 void tableFigures(const std::string& data_dir) {
   namespace fs = std::filesystem;
   const std::string dir = data_dir + "/mosd_dev";
   if (!fs::is_directory(dir)) {
-    for (const char* name : {"mosd.table_iou.mean", "mosd.table_iou.worst", "mosd.scenes"}) {
+    for (const char* name :
+         {"mosd.table_iou.mean", "mosd.table_iou.worst", "mosd.scenes",
+          "mosd.table_iou_up_1deg_off.mean", "mosd.table_iou_up_1deg_off.worst"}) {
       skipped(name, "no " + dir);
     }
     return;
@@ -308,18 +312,42 @@ void tableFigures(const std::string& data_dir) {
     if (entry.path().extension() == ".pcd") paths.push_back(entry.path().string());
   }
   std::sort(paths.begin(), paths.end());
-  std::vector<double> iou;
+  std::vector<double> iou, iou_off;
   hope::Extractor extractor;
+  const auto tableIoU = [&](const hope::evaluation::LabelledTableScene& scene,
+                            const hope::Orientation& orientation) {
+    const hope::Result result = extractor.extract(scene.cloud, orientation);
+    const std::vector<int> labels(result.point_labels.begin(), result.point_labels.end());
+    return hope::evaluation::bestPlaneIoU(labels, scene.is_table);
+  };
   for (const std::string& path : paths) {
     const auto scene = hope::evaluation::loadLabelledTableScene(path);
-    const hope::Result result = extractor.extract(scene.cloud, scene.orientation);
-    const std::vector<int> labels(result.point_labels.begin(), result.point_labels.end());
-    iou.push_back(hope::evaluation::bestPlaneIoU(labels, scene.is_table));
+    iou.push_back(tableIoU(scene, scene.orientation));
+    const Eigen::Vector3d up =
+        scene.orientation.sensorToReference().linear().transpose() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d across = up.unitOrthogonal(), other = up.cross(across);
+    double worst = 1.0;
+    for (int k = 0; k < 8; ++k) {
+      const double towards = k * M_PI / 4;
+      const Eigen::Vector3d axis = std::cos(towards) * across + std::sin(towards) * other;
+      const Eigen::Vector3d off = Eigen::AngleAxisd(M_PI / 180, axis) * up;
+      worst = std::min(worst,
+                       tableIoU(scene, hope::Orientation::fromGravity(off.x(), off.y(), off.z())));
+    }
+    iou_off.push_back(worst);
   }
-  double sum = 0;
-  for (double v : iou) sum += v;
-  print("mosd.table_iou.mean", iou.empty() ? 0.0 : sum / iou.size());
-  print("mosd.table_iou.worst", iou.empty() ? 0.0 : *std::min_element(iou.begin(), iou.end()));
+  const auto mean = [](const std::vector<double>& v) {
+    double sum = 0;
+    for (double x : v) sum += x;
+    return v.empty() ? 0.0 : sum / v.size();
+  };
+  const auto least = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
+  };
+  print("mosd.table_iou.mean", mean(iou));
+  print("mosd.table_iou.worst", least(iou));
+  print("mosd.table_iou_up_1deg_off.mean", mean(iou_off));
+  print("mosd.table_iou_up_1deg_off.worst", least(iou_off));
   print("mosd.scenes", double(iou.size()));
 }
 

@@ -21,8 +21,10 @@ if [ -d "$data/mosd_dev" ] && [ -f ../shared/tools/objects_score.py ]; then
     echo "\`hope_object_baselines --method tabletop|lccp\` (PCL's classic tabletop pipeline, LCCP on its"
     echo "prism points: src/evaluation/object_baselines.cpp). Weighted overlap (WOv) weighs each part's"
     echo "best IoU by its size; under: a part whose best object holds half of another part; false: an"
-    echo "object mostly on no labelled part. The baselines propose no placements. Times are one run"
-    echo "on this machine, the same input for all. Output of \`bash scripts/score_objects.sh\`"
+    echo "object mostly on no labelled part. The baselines propose no placements. Then the same with"
+    echo "each object's parts labelled as one (the dataset's own merge scheme,"
+    echo "\`scripts/mosd_whole_objects.py\`): one object per thing a person would name. Times are one"
+    echo "run on this machine, the same input for all. Output of \`bash scripts/score_objects.sh\`"
     echo "([objects_mosd.txt](objects_mosd.txt)):"
     echo
     echo '```'

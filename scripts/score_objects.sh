@@ -5,7 +5,8 @@
 # points clear of every labelled object point), then the stage's cost on test57 and on the TUM
 # frame (the JSON's timings_ms after --repeat 20: the steady state), and beside hope PCL's
 # classic tabletop pipeline and LCCP (hope_object_baselines) scored and timed on the same
-# scenes. Writes docs/objects_mosd.txt,
+# scenes, and again with each object's parts labelled as one (scripts/mosd_whole_objects.py).
+# Writes docs/objects_mosd.txt,
 # where the README's figures for objects and placements come from, and the pictures
 # docs/objects_<scene>.png of three scenes (objects boxed, placements of 0.10 x 0.10 m painted).
 # Usage: scripts/score_objects.sh
@@ -50,6 +51,21 @@ PY
     echo
     echo "# python3 ../shared/tools/objects_score.py build/devel/lib/hope/hope_object_baselines --method $method"
     python3 "$scorer" "$baselines" --data "$data/mosd_dev" --method "$method" | sed "s/^hope:/$method:/"
+  done
+  # The same, with each object's parts labelled as one (the dataset's own merge scheme,
+  # scripts/mosd_whole_objects.py): one object per thing a person would name.
+  HOPE_SHARED_TOOLS="$root/../shared/tools" python3 scripts/mosd_whole_objects.py "$data/mosd_dev" \
+    "$tmp/whole" >/dev/null
+  for method in hope tabletop lccp; do
+    echo
+    if [ "$method" = hope ]; then
+      echo "# whole objects: python3 ../shared/tools/objects_score.py build/devel/lib/hope/hope_extract --data <mosd_dev by whole object>"
+      python3 "$scorer" "$extract" --data "$tmp/whole" | grep -E '^(hope|placements)'
+    else
+      echo "# whole objects: python3 ../shared/tools/objects_score.py build/devel/lib/hope/hope_object_baselines --method $method --data <mosd_dev by whole object>"
+      python3 "$scorer" "$baselines" --data "$tmp/whole" --method "$method" | grep '^hope:' |
+        sed "s/^hope:/$method:/"
+    fi
   done
   echo
   echo "# cost per scene, ms, the same input for all (the last of 5 runs): hope's objects and free"

@@ -401,6 +401,52 @@ TEST(StandingObjects, ABoxAndABallAreOneObjectEachAtEveryRangeAKinectSees) {
   }
 }
 
+// A thing's lowest centimetre lies within the floor's margin (r_z / 2), where the floor's own
+// samples scatter too. Its points there higher than three σ of the sensor's noise (seen
+// vertically: 4 mm at 1 m from 1 m up) that touch the thing are its foot: of each box's points
+// seen 6–10 mm above the floor, at least half are in its object (none were before). A foot
+// joins nothing: two boxes 2 cm apart stay two, and at most 1 % of the objects' points are
+// the floor's.
+TEST(StandingObjects, AThingsFootIsItsOwnAndJoinsNothing) {
+  for (double distance : {1.0, 1.5}) {
+    SCOPED_TRACE("boxes " + std::to_string(distance) + " m away");
+    synthetic::Scene scene;
+    scene.add<synthetic::Box>(V3(-1, -4, -0.05), V3(9, 4, 0), 0);  // the floor, no thing
+    scene.add<synthetic::Box>(V3(distance - 0.1, -0.22, 0), V3(distance + 0.1, -0.01, 0.12), 1)
+        .thing = 0;
+    scene.add<synthetic::Box>(V3(distance - 0.1, 0.01, 0), V3(distance + 0.1, 0.2, 0.08), 2).thing =
+        1;
+    const synthetic::Camera camera =
+        synthetic::Camera::lookingAt(V3(0, 0, 1.0), V3(distance, 0, 0.05));
+    const RenderedScene seen(scene, camera);
+    EXPECT_EQ(seen.result.objects.size(), 2u) << objectsOf(seen.result);
+    int box_object[2] = {-1, -1};
+    EXPECT_GT(seen.largestShare(0, &box_object[0]), 0.9) << objectsOf(seen.result);
+    EXPECT_GT(seen.largestShare(1, &box_object[1]), 0.9) << objectsOf(seen.result);
+    EXPECT_NE(box_object[0], box_object[1]);
+    const auto cloud = depthToCloud(seen.frame.depth, camera.intrinsics, 1.0);
+    std::size_t low[2] = {0, 0}, low_held[2] = {0, 0}, in_objects = 0, floor_in_objects = 0;
+    for (std::size_t i = 0; i < seen.result.point_objects.size(); ++i) {
+      if (!seen.seen(i)) continue;
+      const int thing = seen.thingAt(i), object = seen.result.point_objects[i];
+      const double z = (camera.pose * cloud[i].getVector3fMap().cast<double>()).z();
+      if ((thing == 0 || thing == 1) && z > 0.006 && z < 0.01) {
+        ++low[thing];
+        low_held[thing] += object == box_object[thing] ? 1 : 0;
+      }
+      if (object < 0) continue;
+      ++in_objects;
+      floor_in_objects += thing == synthetic::kNoThing ? 1 : 0;
+    }
+    for (int t : {0, 1}) {
+      ASSERT_GT(low[t], 20u) << "box " << t;
+      EXPECT_GE(2 * low_held[t], low[t]) << "box " << t << ": " << low_held[t] << " of " << low[t];
+    }
+    ASSERT_GT(in_objects, 0u);
+    EXPECT_LE(100 * floor_in_objects, in_objects) << floor_in_objects << " floor points";
+  }
+}
+
 // A cabinet (0.6 × 0.4 m, 0.58 m tall: past max_height, with its own top plane) on a floor,
 // seen from every side and range a Kinect on a robot (1.2 m up) sees it: one object, whole
 // across its faces (they meet at convex edges); through a noise-free camera (a simulator's)

@@ -497,8 +497,50 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     float noise;             // the sensor's range noise σ at the point (0 without a viewpoint)
   };
   std::vector<ObjectPoint> candidates;
+  // A thing's foot: its points within the plane's margin or in the plane's own voxels, but
+  // higher above it than three σ of the sensor's noise seen vertically (the plane's own
+  // samples stay below that). They seed and join nothing (two things close together would
+  // touch through them); once the objects are found, each goes to the one object whose lowest
+  // points touch it (see the feet after the crease split). Only with a known sensor position,
+  // which σ needs.
+  struct FootPoint {
+    std::uint32_t index;
+    std::uint8_t support;
+  };
+  std::vector<FootPoint> feet;
+  // Height above support s's fitted plane (its normal through its centroid), not its mean
+  // height: a plane a little tilted in the frame (an up a fraction of a degree off) lies
+  // millimetres above its mean height at its far side, and feet are millimetres high.
+  std::vector<Eigen::Vector3d> fitted_normal(supports.size()), fitted_centre(supports.size());
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    const HorizontalPlane& plane = planes[supports[s]];
+    fitted_normal[s] = plane.normal.z() < 0 ? Eigen::Vector3d(-plane.normal) : plane.normal;
+    fitted_centre[s] = plane.centroid - local_origin;
+  }
+  const auto aboveFitted = [&](std::size_t s, const Eigen::Vector3f& q) {
+    const Eigen::Vector3d& n = fitted_normal[s];
+    return n.z() > 0.5 ? n.dot(q.cast<double>() - fitted_centre[s]) / n.z()
+                       : q.z() - local_height[s];
+  };
+  // Three σ of the sensor's range noise at q, seen vertically; 0 without a viewpoint.
+  const auto verticalNoise = [&](const Eigen::Vector3f& q) {
+    if (!eye) return 0.0;
+    const Eigen::Vector3f ray = q - *eye;
+    const double range = ray.norm();
+    return range > 0 ? 3 * noise.at(range) * std::fabs(ray.z()) / range : 0.0;
+  };
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (point_labels[i] >= 0 && !raised[point_labels[i]]) continue;
+    if (point_labels[i] >= 0 && !raised[point_labels[i]]) {
+      const int s = support_of_plane[point_labels[i]];
+      const Eigen::Vector3f q = points[i];
+      if (eye && s >= 0 && carrying[s] && q.allFinite()) {
+        const double above = aboveFitted(static_cast<std::size_t>(s), q);
+        if (above > 0 && above > verticalNoise(q)) {
+          feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s)});
+        }
+      }
+      continue;
+    }
     const Eigen::Vector3f q = points[i];
     if (!q.allFinite()) continue;
     int beside = -1;  // the highest plane the point is beside, at object height
@@ -508,13 +550,15 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     // Above a plane by more than its noise: half a vertical cell, or three standard deviations
     // of the sensor's range noise at the point, seen vertically (a far floor's own samples
     // scatter farther above it than r_z / 2).
-    double noise_margin = margin, sigma = 0.0;
+    double noise_margin = margin, sigma = 0.0, vertical_noise = 0.0;
     if (eye) {
       const Eigen::Vector3f ray = q - *eye;
       const double range = ray.norm();
       sigma = noise.at(range);
-      if (range > 0) noise_margin = std::max(margin, 3 * sigma * std::fabs(ray.z()) / range);
+      if (range > 0) vertical_noise = 3 * sigma * std::fabs(ray.z()) / range;
+      noise_margin = std::max(margin, vertical_noise);
     }
+    int foot_of = -1;  // the plane it is a foot over
     // A raised plane's own points (within its noise: higher ones stand on it) stand, whole, on
     // the plane it stands on.
     const int own = point_labels[i] >= 0 ? support_of_plane[point_labels[i]] : -1;
@@ -528,6 +572,10 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       if (above <= noise_margin) {  // below this plane: try the lower ones
         on_plane = on_plane || (point_labels[i] != supports[s] && above >= -noise_margin &&
                                 areas[s].contains(q.x(), q.y()));
+        if (eye && foot_of < 0 && aboveFitted(s, q) > vertical_noise &&
+            areas[s].contains(q.x(), q.y())) {
+          foot_of = static_cast<int>(s);
+        }
         continue;
       }
       if (above > object_params.max_height) {
@@ -549,7 +597,12 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       if (beside < 0 && areas[s].near(q.x(), q.y(), kOverhang)) beside = static_cast<int>(s);
     }
     const int s = over >= 0 ? over : beside;
-    if (s < 0) continue;
+    if (s < 0) {
+      if (foot_of >= 0) {
+        feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(foot_of)});
+      }
+      continue;
+    }
     candidates.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s),
                           levelOf(static_cast<std::size_t>(s), 2 * sigma), over >= 0,
                           static_cast<std::int16_t>(under_top), static_cast<float>(sigma)});
@@ -801,6 +854,96 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     object_plane = std::move(parent);
   }
   dropSmallObjects(object_params.min_points, result.point_objects, object_plane);
+  // Each foot point goes to the object whose lowest points (up to a vertical cell and two of
+  // its plane's finest cells above the plane) share its cell on its plane's finest grid, or
+  // failing that touch it, when exactly one object's do; then the feet next to those, and so
+  // on down, a vertical cell at most (a thing's lowest points may lie in the plane's voxels,
+  // a few cells below the lowest that was not the plane's).
+  if (!feet.empty() && !object_plane.empty()) {
+    std::vector<std::pair<std::uint64_t, std::int32_t>> lowest;  // (cell key, object)
+    // Feet far from every object's lowest points (the plane's own noisy samples, most of them)
+    // are passed over at once: only those in or beside an r_xy column holding some are looked at.
+    std::vector<std::uint64_t> columns;
+    const auto columnOf = [&](const Eigen::Vector3f& q, int s) {
+      std::uint64_t key = 0;
+      cellKey(Eigen::Vector3f(q.x(), q.y(), 0), params.r_xy, s, key);
+      return key;
+    };
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const std::int32_t o = result.point_objects[i];
+      if (o < 0) continue;
+      const int s = support_of_plane[object_plane[o]];
+      if (s < 0) continue;
+      const Eigen::Vector3f q = points[i];
+      std::uint64_t key;
+      if (q.z() - local_height[s] <= params.r_z + 2 * sample_cell[s] &&
+          cellKey(q, sample_cell[s], s, key)) {
+        lowest.emplace_back(key, o);
+        columns.push_back(columnOf(q, s));
+      }
+    }
+    std::sort(lowest.begin(), lowest.end());
+    lowest.erase(std::unique(lowest.begin(), lowest.end()), lowest.end());
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    const auto nearColumn = [&](std::uint64_t column) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          if (std::binary_search(columns.begin(), columns.end(), neighbourKey(column, dx, dy, 0))) {
+            return true;
+          }
+        }
+      }
+      return false;
+    };
+    std::vector<std::uint64_t> foot_key(feet.size());
+    std::vector<std::uint8_t> keyed_foot(feet.size(), 0);
+    for (std::size_t f = 0; f < feet.size(); ++f) {
+      const Eigen::Vector3f q = points[feet[f].index];
+      keyed_foot[f] = nearColumn(columnOf(q, feet[f].support)) &&
+                      cellKey(q, sample_cell[feet[f].support], feet[f].support, foot_key[f]);
+    }
+    std::vector<std::pair<std::uint64_t, std::int32_t>> attached;
+    // At most a vertical cell down, in the finest cells: feet never creep along the plane.
+    const int rounds = static_cast<int>(std::ceil(params.r_z / finest_cell));
+    bool grew = true;
+    for (int round = 0; grew && round < rounds; ++round) {
+      attached.clear();
+      for (std::size_t f = 0; f < feet.size(); ++f) {
+        if (!keyed_foot[f] || result.point_objects[feet[f].index] >= 0) continue;
+        // The objects whose lowest points share the cell with it, failing that touch it.
+        std::int32_t object = -1;
+        bool one = true;
+        const auto look = [&](std::uint64_t wanted) {
+          auto it = std::lower_bound(lowest.begin(), lowest.end(),
+                                     std::make_pair(wanted, std::int32_t{-1}));
+          for (; it != lowest.end() && it->first == wanted && one; ++it) {
+            one = object < 0 || object == it->second;
+            object = it->second;
+          }
+        };
+        look(foot_key[f]);
+        for (int dx = -1; dx <= 1 && one && object < 0; ++dx) {
+          for (int dy = -1; dy <= 1 && one; ++dy) {
+            for (int dz = -1; dz <= 1 && one; ++dz) look(neighbourKey(foot_key[f], dx, dy, dz));
+          }
+        }
+        if (one && object >= 0) attached.emplace_back(foot_key[f], object), keyed_foot[f] = 2;
+      }
+      // Written after the round, so that a round's outcome does not depend on the feet's order.
+      for (std::size_t f = 0, a = 0; f < feet.size(); ++f) {
+        if (keyed_foot[f] == 2) {
+          result.point_objects[feet[f].index] = attached[a++].second;
+          keyed_foot[f] = 3;
+        }
+      }
+      grew = !attached.empty();
+      std::sort(attached.begin(), attached.end());
+      const auto middle = static_cast<std::ptrdiff_t>(lowest.size());
+      lowest.insert(lowest.end(), attached.begin(), attached.end());
+      std::inplace_merge(lowest.begin(), lowest.begin() + middle, lowest.end());
+    }
+  }
   result.objects.resize(object_plane.size());
   std::vector<std::vector<Eigen::Vector2d>> footprint_points(object_plane.size());
   std::vector<double> top(object_plane.size(), -std::numeric_limits<double>::infinity());

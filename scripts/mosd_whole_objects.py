@@ -1,4 +1,3 @@
-#!/usr/bin/python3
 """Copies of the mOSD scenes labelled by whole object, as the dataset's README-mOSD.md prescribes for
 methods that connect disjoint parts of one object ("merging object parts"): the table's parts 1-9 become 1,
 and the parts 20-29, 30-39, ... of each object become 20, 30, ... (one label per object, still >= 20, so

@@ -98,6 +98,14 @@ OBJECT_FIGURES = ['mosd.objects.wov', 'mosd.objects.parts_found', 'mosd.objects.
                   'mosd.objects.failed_scenes', 'mosd.placements.valid', 'mosd.placements.scenes_missed']
 
 
+def segmentation_figures(out, names, what):
+    """objects_score.py's summary line as figures `names`: weighted overlap, parts found at IoU
+    0.5 and 0.8, under- and over-segmented parts."""
+    patterns = [r'mean WOv ([0-9.]+)', r'correct@0\.5 ([0-9.]+)', r'@0\.8 ([0-9.]+)',
+                r'under (\d+), over', r'over (\d+), false']
+    return {name: number(pattern, out, what) for name, pattern in zip(names, patterns)}
+
+
 def mosd_objects():
     score = scorer('objects_score.py', os.path.join(DATA, 'mosd_dev'))
     if not score:
@@ -106,11 +114,7 @@ def mosd_objects():
                os.path.join(DATA, 'mosd_dev')], timeout=900)
     what = 'objects_score.py'
     return {
-        'mosd.objects.wov': number(r'mean WOv ([0-9.]+)', out, what),
-        'mosd.objects.parts_found': number(r'correct@0\.5 ([0-9.]+)', out, what),
-        'mosd.objects.parts_found_0.8': number(r'@0\.8 ([0-9.]+)', out, what),
-        'mosd.objects.under': number(r'under (\d+), over', out, what),
-        'mosd.objects.over': number(r'over (\d+), false', out, what),
+        **segmentation_figures(out, OBJECT_FIGURES[:5], what),
         'mosd.objects.false': number(r'false objects (\d+)', out, what),
         'mosd.objects.failed_scenes': number(r'scenes \((\d+) failed', out, what),
         'mosd.placements.valid': number(r'valid ([0-9.]+), scenes missed', out, what),
@@ -135,14 +139,7 @@ def mosd_whole_objects():
         mosd_whole_objects.write_whole_object_scenes(os.path.join(DATA, 'mosd_dev'), tmp)
         out = run([sys.executable, score, os.path.join(BIN, 'hope_extract'), '--data', tmp],
                   timeout=900)
-    what = 'objects_score.py (whole objects)'
-    return {
-        'mosd.whole_objects.wov': number(r'mean WOv ([0-9.]+)', out, what),
-        'mosd.whole_objects.found': number(r'correct@0\.5 ([0-9.]+)', out, what),
-        'mosd.whole_objects.found_0.8': number(r'@0\.8 ([0-9.]+)', out, what),
-        'mosd.whole_objects.under': number(r'under (\d+), over', out, what),
-        'mosd.whole_objects.over': number(r'over (\d+), false', out, what),
-    }
+    return segmentation_figures(out, WHOLE_OBJECT_FIGURES, 'objects_score.py (whole objects)')
 
 
 # The orientation each identity run is given, and how id_accuracy.py maps its planes into the

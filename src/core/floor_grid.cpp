@@ -14,7 +14,7 @@ FloorGrid floorGrid(const AlignedPoints& points, const Eigen::Vector3d& local_or
   FloorGrid grid;
   grid.resolution = resolution;
   grid.floor_height = floor.height;
-  const HeightAboveFloor height_above(floor, local_origin);
+  const HeightAbovePlane height_above(floor, local_origin);
   // One pass into the whole window around the centre (1 MB at most), cropped to the cells seen
   // at the end: no list of hits.
   const long half = kFloorGridMaxCells / 2, side = 2 * half + 1;

@@ -18,7 +18,7 @@ std::vector<std::uint32_t> obstaclePoints(const AlignedPoints& points,
                                           const Eigen::Vector3d& local_origin,
                                           const HorizontalPlane& floor, double min_height,
                                           double max_height) {
-  const HeightAboveFloor height_above(floor, local_origin);
+  const HeightAbovePlane height_above(floor, local_origin);
   std::vector<std::uint32_t> out;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f p = points[i];

@@ -14,6 +14,7 @@
 #include "cell_keys.h"
 #include "hope/convex_hull.h"
 #include "hope/crease_splitting.h"
+#include "hope/obstacle_points.h"
 
 namespace hope {
 
@@ -511,31 +512,28 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // Height above support s's fitted plane (its normal through its centroid), not its mean
   // height: a plane a little tilted in the frame (an up a fraction of a degree off) lies
   // millimetres above its mean height at its far side, and feet are millimetres high.
-  std::vector<Eigen::Vector3d> fitted_normal(supports.size()), fitted_centre(supports.size());
-  for (std::size_t s = 0; s < supports.size(); ++s) {
-    const HorizontalPlane& plane = planes[supports[s]];
-    fitted_normal[s] = plane.normal.z() < 0 ? Eigen::Vector3d(-plane.normal) : plane.normal;
-    fitted_centre[s] = plane.centroid - local_origin;
-  }
-  const auto aboveFitted = [&](std::size_t s, const Eigen::Vector3f& q) {
-    const Eigen::Vector3d& n = fitted_normal[s];
-    return n.z() > 0.5 ? n.dot(q.cast<double>() - fitted_centre[s]) / n.z()
-                       : q.z() - local_height[s];
+  std::vector<HeightAbovePlane> above_fitted;
+  for (int support : supports) above_fitted.emplace_back(planes[support], local_origin);
+  // The sensor's range noise σ at q, and three σ of it seen vertically; 0 without a viewpoint.
+  struct NoiseAt {
+    double sigma = 0.0, vertical = 0.0;
   };
-  // Three σ of the sensor's range noise at q, seen vertically; 0 without a viewpoint.
-  const auto verticalNoise = [&](const Eigen::Vector3f& q) {
-    if (!eye) return 0.0;
+  const auto noiseAt = [&](const Eigen::Vector3f& q) {
+    NoiseAt at;
+    if (!eye) return at;
     const Eigen::Vector3f ray = q - *eye;
     const double range = ray.norm();
-    return range > 0 ? 3 * noise.at(range) * std::fabs(ray.z()) / range : 0.0;
+    at.sigma = noise.at(range);
+    if (range > 0) at.vertical = 3 * at.sigma * std::fabs(ray.z()) / range;
+    return at;
   };
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (point_labels[i] >= 0 && !raised[point_labels[i]]) {
       const int s = support_of_plane[point_labels[i]];
       const Eigen::Vector3f q = points[i];
       if (eye && s >= 0 && carrying[s] && q.allFinite()) {
-        const double above = aboveFitted(static_cast<std::size_t>(s), q);
-        if (above > 0 && above > verticalNoise(q)) {
+        const double above = above_fitted[static_cast<std::size_t>(s)](q);
+        if (above > 0 && above > noiseAt(q).vertical) {
           feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s)});
         }
       }
@@ -550,14 +548,9 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     // Above a plane by more than its noise: half a vertical cell, or three standard deviations
     // of the sensor's range noise at the point, seen vertically (a far floor's own samples
     // scatter farther above it than r_z / 2).
-    double noise_margin = margin, sigma = 0.0, vertical_noise = 0.0;
-    if (eye) {
-      const Eigen::Vector3f ray = q - *eye;
-      const double range = ray.norm();
-      sigma = noise.at(range);
-      if (range > 0) vertical_noise = 3 * sigma * std::fabs(ray.z()) / range;
-      noise_margin = std::max(margin, vertical_noise);
-    }
+    const NoiseAt at = noiseAt(q);
+    const double sigma = at.sigma, vertical_noise = at.vertical;
+    const double noise_margin = std::max(margin, vertical_noise);
     int foot_of = -1;  // the plane it is a foot over
     // A raised plane's own points (within its noise: higher ones stand on it) stand, whole, on
     // the plane it stands on.
@@ -572,7 +565,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       if (above <= noise_margin) {  // below this plane: try the lower ones
         on_plane = on_plane || (point_labels[i] != supports[s] && above >= -noise_margin &&
                                 areas[s].contains(q.x(), q.y()));
-        if (eye && foot_of < 0 && aboveFitted(s, q) > vertical_noise &&
+        if (eye && foot_of < 0 && above_fitted[s](q) > vertical_noise &&
             areas[s].contains(q.x(), q.y())) {
           foot_of = static_cast<int>(s);
         }

@@ -22,16 +22,17 @@ constexpr double kFloorMinArea = 0.25;
 // position is) whose area is at least kFloorMinArea, or none.
 std::optional<std::size_t> findFloor(const std::vector<HorizontalPlane>& planes);
 
-// How far a point is above the floor plane under it: the floor's fitted plane n · (p − c) = 0
-// (n_z > 0: the normal points up), whose height under (x, y) is
-// c_z − (n_x (x − c_x) + n_y (y − c_y)) / n_z, so a floor tilted within the extraction's slope
-// limit is followed. Points as Extractor::alignedPoints() gives them, relative to local_origin.
-class HeightAboveFloor {
+// How far a point is above a plane's fitted surface under it (the floor's for obstacles and
+// the grid, a support's for the objects' feet): the plane n · (p − c) = 0, whose height under
+// (x, y) is c_z − (n_x (x − c_x) + n_y (y − c_y)) / n_z, so a plane tilted within the
+// extraction's slope limit is followed. Points as Extractor::alignedPoints() gives them,
+// relative to local_origin.
+class HeightAbovePlane {
  public:
-  HeightAboveFloor(const HorizontalPlane& floor, const Eigen::Vector3d& local_origin)
-      : c_(floor.centroid - local_origin),
-        gx_(-floor.normal.x() / floor.normal.z()),
-        gy_(-floor.normal.y() / floor.normal.z()) {}
+  HeightAbovePlane(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin)
+      : c_(plane.centroid - local_origin),
+        gx_(-plane.normal.x() / plane.normal.z()),
+        gy_(-plane.normal.y() / plane.normal.z()) {}
   double operator()(const Eigen::Vector3f& p) const {
     return p.z() - (c_.z() + gx_ * (p.x() - c_.x()) + gy_ * (p.y() - c_.y()));
   }
@@ -42,7 +43,7 @@ class HeightAboveFloor {
 };
 
 // The input indices of the points more than `min_height` and at most `max_height` above the
-// floor plane under them (HeightAboveFloor), in input order. `points` as Extractor::alignedPoints()
+// floor plane under them (HeightAbovePlane), in input order. `points` as Extractor::alignedPoints()
 // gives them, relative to `local_origin`; non-finite points are never obstacles.
 std::vector<std::uint32_t> obstaclePoints(const AlignedPoints& points,
                                           const Eigen::Vector3d& local_origin,

@@ -243,6 +243,53 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
       parts.join(best, to);
     }
   }
+  // An edge patch (it tells a normal but is not flat: it holds two faces, or a curve, or a
+  // face seen at a slant, whose noise spreads it) lies between flat patches that then touch no
+  // flat patch of each other: a box's faces meeting at its edge, a ball's surface at its rim.
+  // Flat patches next to one edge patch, or to two edge patches that touch, are one surface
+  // when they meet as the regions' patches do above (in one plane, or convexly close by) and
+  // the edge patches lie behind both their planes (within a quarter patch), as the edge
+  // between two faces of one solid does. A thing's edge in front of another thing lies in
+  // front of the far one's plane: the two stay apart (mOSD test52, a bottle before a jar), as
+  // do two things that touch at a concave crease.
+  // Each edge patch's flat neighbours, in one list (first_flat[e] .. first_flat[e + 1]).
+  std::vector<std::uint32_t> first_flat(keys.size() + 1, 0), flat_of_edge;
+  const auto edgeAndFlat = [&](std::uint32_t a, std::uint32_t b) {
+    return flat[a] != flat[b] && tells_normal[flat[a] ? b : a];
+  };
+  for (const auto& [a, b] : adjacent) {
+    if (edgeAndFlat(a, b)) ++first_flat[(flat[a] ? b : a) + 1];
+  }
+  for (std::size_t e = 0; e < keys.size(); ++e) first_flat[e + 1] += first_flat[e];
+  flat_of_edge.resize(first_flat.back());
+  {
+    std::vector<std::uint32_t> next(first_flat.begin(), first_flat.end() - 1);
+    for (const auto& [a, b] : adjacent) {
+      if (edgeAndFlat(a, b)) flat_of_edge[next[flat[a] ? b : a]++] = flat[a] ? a : b;
+    }
+  }
+  const auto behindBoth = [](const Patch& edge, const Patch& p, const Patch& q, double patch) {
+    const double tolerance = 0.25 * patch;
+    return p.normal.dot(edge.centroid - p.centroid) <= tolerance &&
+           q.normal.dot(edge.centroid - q.centroid) <= tolerance;
+  };
+  const auto joinAcrossEdge = [&](std::uint32_t e1, std::uint32_t e2) {
+    const double patch = patchOf(static_cast<std::int32_t>(keys[e1] >> 48));
+    for (std::uint32_t i = first_flat[e1]; i < first_flat[e1 + 1]; ++i) {
+      for (std::uint32_t j = e1 == e2 ? i + 1 : first_flat[e2]; j < first_flat[e2 + 1]; ++j) {
+        const std::uint32_t p = flat_of_edge[i], q = flat_of_edge[j];
+        if (parts.find(p) != parts.find(q) && meetAcross(patches[p], patches[q], patch) &&
+            behindBoth(patches[e1], patches[p], patches[q], patch) &&
+            behindBoth(patches[e2], patches[p], patches[q], patch)) {
+          parts.join(p, q);
+        }
+      }
+    }
+  };
+  for (std::uint32_t e = 0; e < keys.size(); ++e) joinAcrossEdge(e, e);
+  for (const auto& [a, b] : adjacent) {
+    if (!flat[a] && !flat[b] && tells_normal[a] && tells_normal[b]) joinAcrossEdge(a, b);
+  }
   // Parts too small to be faces (a crease's own sliver, a handle's stub) join the neighbour
   // with the most points, in one round: a second round would also swallow the small objects
   // that the first left small. Then parts too small to be objects at all join theirs until none

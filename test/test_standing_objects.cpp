@@ -236,6 +236,26 @@ void addSeenBox(LabeledCloud& scene, double x0, double y0, double x1, double y1,
 // to the left and above sees them: one object each, split at the concave creases where they
 // meet (the lower box's top against the taller one's side; the front faces' inside corner).
 // Without a viewpoint a crease cannot be told from an edge, and they stay one.
+// Things standing at a table's back hide it out to its far edge: the table's points leave a
+// bay there that its edge does not enclose. A box standing in the bay, no table point around
+// its back, still stands on the table: the bay lies within the hull of the table's cells.
+TEST(StandingObjects, ABoxInABayTheTableShowsOpenToItsFarEdgeStandsOnTheTable) {
+  LabeledCloud scene;
+  const V3 box_at(0.5, 0.66, 0), box(0.15, 0.2, 0.12);
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}}, 0);  // floor, table's shadow
+  addSurface(scene, 0, 0, 1.0, 0.8, kTable, {{0.3, 0.45, 0.7, 0.81}}, 1);
+  addBox(scene, box_at, 0, box, kTable, 2);
+  Extracted e(scene);
+  const int table = planeNear(e.result, kTable, 0.01);
+  ASSERT_GE(table, 0) << describe(e.result);
+  ASSERT_EQ(e.result.objects.size(), 1u) << describe(e.result) << objectsOf(e.result);
+  const int b = objectAt(e.result, box_at.x(), box_at.y());
+  ASSERT_GE(b, 0) << objectsOf(e.result);
+  EXPECT_EQ(e.result.objects[b].plane_index, table);
+  EXPECT_LT(sideError(e.result.objects[b], box), 0.05);
+  EXPECT_NEAR(e.result.objects[b].height, box.z(), 0.01);
+}
+
 TEST(StandingObjects, TwoTouchingBoxesAreTwoObjectsWhenTheViewpointIsKnown) {
   const V3 eye(-0.6, -1.2, 1.6);
   const XyBox low{0.30, 0.30, 0.45, 0.42}, tall{0.45, 0.25, 0.60, 0.45};

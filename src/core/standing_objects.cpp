@@ -84,6 +84,21 @@ class SupportArea {
       const long x = k % width_, y = k / width_;
       push(x - 1, y), push(x + 1, y), push(x, y - 1), push(x, y + 1);
     }
+    // The convex hull of the occupied cells' corners: a bay of the plane that its edge does not
+    // enclose (the back of a table hidden by the things on it, out to its far edge) is still
+    // under the plane.
+    std::vector<Eigen::Vector2d> corners;
+    for (long y = 0; y < height_; ++y) {
+      for (long x = 0; x < width_; ++x) {
+        if (!mask_[y * width_ + x]) continue;
+        for (long cy = 0; cy <= 1; ++cy) {
+          for (long cx = 0; cx <= 1; ++cx) {
+            corners.emplace_back((x0_ + x + cx) * cell_, (y0_ + y + cy) * cell_);
+          }
+        }
+      }
+    }
+    hull_ = convexHull2D(std::move(corners));
     std::vector<std::uint8_t> filled(mask_.size(), 0);
     for (long y = 0; y < height_; ++y) {
       for (long x = 0; x < width_; ++x) {
@@ -115,6 +130,20 @@ class SupportArea {
                   static_cast<float>(plane.bbox[2] - local_origin.x() + margin),
                   static_cast<float>(plane.bbox[3] - local_origin.y() + margin)};
   }
+  // Within the convex hull of the plane's cells (and within the tightened box, if any).
+  bool withinHull(float x, float y) const {
+    if (hull_.size() < 3) return false;
+    if (tight_ &&
+        (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
+      return false;
+    }
+    for (std::size_t k = 0; k < hull_.size(); ++k) {
+      const Eigen::Vector2d& a = hull_[k];
+      const Eigen::Vector2d& b = hull_[(k + 1) % hull_.size()];
+      if ((b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x()) < 0) return false;
+    }
+    return true;
+  }
   bool contains(float x, float y) const {
     if (tight_ &&
         (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
@@ -129,6 +158,7 @@ class SupportArea {
   double cell_;
   long x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> mask_;
+  std::vector<Eigen::Vector2d> hull_;
   bool tight_ = false;
   std::array<float, 4> tight_box_{};
 };
@@ -581,7 +611,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         }
         break;
       }
-      if (areas[s].contains(q.x(), q.y())) {
+      if (areas[s].contains(q.x(), q.y()) || areas[s].withinHull(q.x(), q.y())) {
         over = static_cast<int>(s);
         break;
       }

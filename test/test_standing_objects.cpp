@@ -232,10 +232,6 @@ void addSeenBox(LabeledCloud& scene, double x0, double y0, double x1, double y1,
   }
 }
 
-// Two boxes pushed together on the table, of other heights and depths, as a camera in front,
-// to the left and above sees them: one object each, split at the concave creases where they
-// meet (the lower box's top against the taller one's side; the front faces' inside corner).
-// Without a viewpoint a crease cannot be told from an edge, and they stay one.
 // Things standing at a table's back hide it out to its far edge: the table's points leave a
 // bay there that its edge does not enclose. A box standing in the bay, no table point around
 // its back, still stands on the table: the bay lies within the hull of the table's cells.
@@ -254,8 +250,48 @@ TEST(StandingObjects, ABoxInABayTheTableShowsOpenToItsFarEdgeStandsOnTheTable) {
   EXPECT_EQ(e.result.objects[b].plane_index, table);
   EXPECT_LT(sideError(e.result.objects[b], box), 0.05);
   EXPECT_NEAR(e.result.objects[b].height, box.z(), 0.01);
+  // Every point of the box, its top included, is the box's (but those within r_z / 2 = 1 cm
+  // of the table, no object's by definition); none of the table's or the floor's.
+  std::size_t box_points = 0, held = 0;
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i) {
+    const int o = e.result.point_objects[i];
+    if (scene.labels[i] <= 1) {
+      EXPECT_EQ(o, -1) << "a point of the table or floor in object " << o;
+      continue;
+    }
+    if (scene.cloud[i].z <= kTable + 0.011) continue;  // within r_z / 2: no object's
+    ++box_points;
+    held += o == b ? 1 : 0;
+  }
+  EXPECT_EQ(held, box_points);
 }
 
+// A box standing on the floor in front of a low table hides the table's near edge and rises
+// past it, within the hull of the table's cells. Its sides seen below the table's height say
+// the table is not there: the box is one object, on the floor, and nothing stands on the table.
+TEST(StandingObjects, ABoxInFrontOfALowTableRisingPastItStandsOnTheFloor) {
+  LabeledCloud scene;
+  const double low_table = 0.35;
+  const V3 box_at(0.5, 0.12, 0), box(0.2, 0.2, 0.45);
+  addSurface(scene, -1, -1, 2, 2, 0, {{-0.02, -0.02, 1.02, 0.82}, under(box_at, 0, box)}, 0);
+  addSurface(scene, 0, 0, 1.0, 0.8, low_table, {{0.3, -0.01, 0.7, 0.3}}, 1);
+  addBox(scene, box_at, 0, box, 0, 2);
+  Extracted e(scene);
+  const int floor = planeNear(e.result, 0, 0.01), table = planeNear(e.result, low_table, 0.01);
+  ASSERT_TRUE(floor >= 0 && table >= 0) << describe(e.result);
+  // The low table is a thing on the floor too (its top stands there); the box is the other.
+  ASSERT_EQ(e.result.objects.size(), 2u) << describe(e.result) << objectsOf(e.result);
+  const int b = objectAt(e.result, box_at.x(), box_at.y());
+  ASSERT_GE(b, 0) << objectsOf(e.result);
+  EXPECT_EQ(e.result.objects[b].plane_index, floor) << objectsOf(e.result);
+  EXPECT_NEAR(e.result.objects[b].height, box.z(), 0.02) << objectsOf(e.result);
+  for (const StandingObject& o : e.result.objects) EXPECT_NE(o.plane_index, table);
+}
+
+// Two boxes pushed together on the table, of other heights and depths, as a camera in front,
+// to the left and above sees them: one object each, split at the concave creases where they
+// meet (the lower box's top against the taller one's side; the front faces' inside corner).
+// Without a viewpoint a crease cannot be told from an edge, and they stay one.
 TEST(StandingObjects, TwoTouchingBoxesAreTwoObjectsWhenTheViewpointIsKnown) {
   const V3 eye(-0.6, -1.2, 1.6);
   const XyBox low{0.30, 0.30, 0.45, 0.42}, tall{0.45, 0.25, 0.60, 0.45};

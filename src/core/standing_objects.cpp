@@ -40,7 +40,8 @@ namespace {
 
 // Where a plane can carry things: its occupied xy cells with their holes filled (objects
 // occlude the surface they stand on) and one cell around them (an object overhanging the
-// edge, the mixed pixels at its foot), as a mask over the plane's bounding box.
+// edge, the mixed pixels at its foot), as a mask over the plane's bounding box; and, where
+// nothing is seen below the plane, the convex hull of its cells (see withinHull).
 class SupportArea {
  public:
   // Cells along the longer side at most: a kilometre of merged map at r_xy is coarsened rather
@@ -57,6 +58,15 @@ class SupportArea {
     width_ = static_cast<long>(std::floor((plane.bbox[2] - local_origin.x()) / cell)) - x0_ + 3;
     height_ = static_cast<long>(std::floor((plane.bbox[3] - local_origin.y()) / cell)) - y0_ + 3;
     mask_.assign(static_cast<std::size_t>(width_ * height_), 0);
+  }
+  // Something was seen below the plane's height at (x, y): the plane is not there.
+  void markBelow(float x, float y) {
+    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
+    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
+    if (ix >= 0 && iy >= 0 && ix < width_ && iy < height_) {
+      if (below_.empty()) below_.assign(mask_.size(), 0);
+      below_[iy * width_ + ix] = 1;
+    }
   }
   void markOccupied(float x, float y) {
     const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
@@ -130,9 +140,24 @@ class SupportArea {
                   static_cast<float>(plane.bbox[2] - local_origin.x() + margin),
                   static_cast<float>(plane.bbox[3] - local_origin.y() + margin)};
   }
-  // Within the convex hull of the plane's cells (and within the tightened box, if any).
+  // Within the convex hull of the plane's cells (and within the tightened box, if any), where
+  // nothing was seen below the plane's height: a bay its edge does not enclose, hidden by the
+  // things standing in it (a chair's back in front of a desk hides the desk's edge, but its
+  // seat and legs below the desk's height say the desk is not there).
   bool withinHull(float x, float y) const {
-    if (hull_.size() < 3) return false;
+    if (hull_.size() < 3 || !near(x, y, 0)) return false;
+    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
+    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
+    // A thing's sides seen below the plane mark the rim of its footprint: the cells next to
+    // them are its inside.
+    for (long dy = -1; dy <= 1 && !below_.empty(); ++dy) {
+      for (long dx = -1; dx <= 1; ++dx) {
+        const long nx = ix + dx, ny = iy + dy;
+        if (nx >= 0 && ny >= 0 && nx < width_ && ny < height_ && below_[ny * width_ + nx]) {
+          return false;
+        }
+      }
+    }
     if (tight_ &&
         (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
       return false;
@@ -159,6 +184,7 @@ class SupportArea {
   long x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> mask_;
   std::vector<Eigen::Vector2d> hull_;
+  std::vector<std::uint8_t> below_;  // empty: nothing below anywhere
   bool tight_ = false;
   std::array<float, 4> tight_box_{};
 };
@@ -416,11 +442,23 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     areas.emplace_back(planes[supports[s]], local_origin, params.r_xy);
     support_of_plane[supports[s]] = static_cast<int>(s);
   }
+  // What is seen below a plane's height by more than r_z, other than a plane (the sides of a
+  // thing standing lower down), marks where that plane is not. A lower plane seen there marks
+  // nothing: with nothing on it in the bay, nothing there is taken for standing on the higher.
+  std::vector<double> height_of_support(supports.size());
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    height_of_support[s] = planes[supports[s]].height - local_origin.z() - params.r_z;
+  }
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int p = point_labels[i];
-    if (p >= 0 && support_of_plane[p] >= 0) {
-      const Eigen::Vector3f q = points[i];
-      areas[support_of_plane[p]].markOccupied(q.x(), q.y());
+    const Eigen::Vector3f q = points[i];
+    if (p >= 0) {
+      if (support_of_plane[p] >= 0) areas[support_of_plane[p]].markOccupied(q.x(), q.y());
+      continue;
+    }
+    if (!q.allFinite()) continue;
+    for (std::size_t s = 0; s < supports.size() && q.z() < height_of_support[s]; ++s) {
+      areas[s].markBelow(q.x(), q.y());
     }
   }
   for (SupportArea& area : areas) area.finish();

@@ -2,7 +2,9 @@
 // the objects upon the surface"). For every plane seen from above, the points above it — more
 // than its noise (r_z / 2, or three times the sensor's range noise at the point, seen
 // vertically) and at most ObjectParams::max_height — over its occupied cells with their holes
-// filled (a hole in a table top is where something stands) and one cell around them, joined
+// filled (a hole in a table top is where something stands) and one cell around them, or within
+// the convex hull of its cells where nothing is seen below it (a bay of a table hidden out to
+// its far edge by the things standing there), joined
 // into objects where they touch. They touch within a distance that follows the data: cells of
 // r_z / 4, or twice the plane's sample spacing where the cloud is sparser, or twice the
 // sensor's range noise at the point where that is larger (a far chair's samples scatter by

@@ -61,9 +61,8 @@ class SupportArea {
   }
   // Something was seen below the plane's height at (x, y): the plane is not there.
   void markBelow(float x, float y) {
-    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
-    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
-    if (ix >= 0 && iy >= 0 && ix < width_ && iy < height_) {
+    long ix, iy;
+    if (cellOf(x, y, ix, iy)) {
       if (below_.empty()) below_.assign(mask_.size(), 0);
       below_[iy * width_ + ix] = 1;
     }
@@ -97,15 +96,18 @@ class SupportArea {
     // The convex hull of the occupied cells' corners: a bay of the plane that its edge does not
     // enclose (the back of a table hidden by the things on it, out to its far edge) is still
     // under the plane.
+    // Each row's first and last occupied cells hold the corners that can be on it.
     std::vector<Eigen::Vector2d> corners;
     for (long y = 0; y < height_; ++y) {
-      for (long x = 0; x < width_; ++x) {
-        if (!mask_[y * width_ + x]) continue;
-        for (long cy = 0; cy <= 1; ++cy) {
-          for (long cx = 0; cx <= 1; ++cx) {
-            corners.emplace_back((x0_ + x + cx) * cell_, (y0_ + y + cy) * cell_);
-          }
-        }
+      const auto row = mask_.begin() + y * width_;
+      const auto first = std::find(row, row + width_, 1);
+      if (first == row + width_) continue;
+      const long x_first = first - row;
+      long x_last = width_ - 1;
+      while (!row[x_last]) --x_last;
+      for (const long cy : {y, y + 1}) {
+        corners.emplace_back((x0_ + x_first) * cell_, (y0_ + cy) * cell_);
+        corners.emplace_back((x0_ + x_last + 1) * cell_, (y0_ + cy) * cell_);
       }
     }
     hull_ = convexHull2D(std::move(corners));
@@ -145,7 +147,7 @@ class SupportArea {
   // things standing in it (a chair's back in front of a desk hides the desk's edge, but its
   // seat and legs below the desk's height say the desk is not there).
   bool withinHull(float x, float y) const {
-    if (hull_.size() < 3 || !near(x, y, 0)) return false;
+    if (hull_.size() < 3 || !near(x, y, 0) || outsideTightBox(x, y)) return false;
     const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
     const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
     // A thing's sides seen below the plane mark the rim of its footprint: the cells next to
@@ -158,10 +160,6 @@ class SupportArea {
         }
       }
     }
-    if (tight_ &&
-        (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
-      return false;
-    }
     for (std::size_t k = 0; k < hull_.size(); ++k) {
       const Eigen::Vector2d& a = hull_[k];
       const Eigen::Vector2d& b = hull_[(k + 1) % hull_.size()];
@@ -170,16 +168,21 @@ class SupportArea {
     return true;
   }
   bool contains(float x, float y) const {
-    if (tight_ &&
-        (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3])) {
-      return false;
-    }
-    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
-    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
-    return ix >= 0 && iy >= 0 && ix < width_ && iy < height_ && mask_[iy * width_ + ix];
+    long ix, iy;
+    return !outsideTightBox(x, y) && cellOf(x, y, ix, iy) && mask_[iy * width_ + ix];
   }
 
  private:
+  // The cell holding (x, y), false when it is outside the mask.
+  bool cellOf(float x, float y, long& ix, long& iy) const {
+    ix = static_cast<long>(std::floor(x / cell_)) - x0_;
+    iy = static_cast<long>(std::floor(y / cell_)) - y0_;
+    return ix >= 0 && iy >= 0 && ix < width_ && iy < height_;
+  }
+  bool outsideTightBox(float x, float y) const {
+    return tight_ &&
+           (x < tight_box_[0] || y < tight_box_[1] || x > tight_box_[2] || y > tight_box_[3]);
+  }
   double cell_;
   long x0_ = 0, y0_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> mask_;

@@ -53,10 +53,11 @@ class SupportArea {
             cell,
             std::max(plane.bbox[2] - plane.bbox[0], plane.bbox[3] - plane.bbox[1]) / kMaxSide)) {
     // One cell of border on each side, so that the flood from the border reaches around.
-    x0_ = static_cast<long>(std::floor((plane.bbox[0] - local_origin.x()) / cell)) - 2;
-    y0_ = static_cast<long>(std::floor((plane.bbox[1] - local_origin.y()) / cell)) - 2;
-    width_ = static_cast<long>(std::floor((plane.bbox[2] - local_origin.x()) / cell)) - x0_ + 3;
-    height_ = static_cast<long>(std::floor((plane.bbox[3] - local_origin.y()) / cell)) - y0_ + 3;
+    // In cells of cell_, the coarsened size every lookup (cellOf) uses.
+    x0_ = static_cast<long>(std::floor((plane.bbox[0] - local_origin.x()) / cell_)) - 2;
+    y0_ = static_cast<long>(std::floor((plane.bbox[1] - local_origin.y()) / cell_)) - 2;
+    width_ = static_cast<long>(std::floor((plane.bbox[2] - local_origin.x()) / cell_)) - x0_ + 3;
+    height_ = static_cast<long>(std::floor((plane.bbox[3] - local_origin.y()) / cell_)) - y0_ + 3;
     mask_.assign(static_cast<std::size_t>(width_ * height_), 0);
   }
   // Something was seen below the plane's height at (x, y): the plane is not there.

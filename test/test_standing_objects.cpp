@@ -289,13 +289,13 @@ TEST(StandingObjects, ABoxInFrontOfALowTableRisingPastItStandsOnTheFloor) {
 }
 
 // A floor 400 m long, as a merged map of a corridor holds: its area is kept on cells coarser
-// than r_xy (at most 4000 along a side, 0.1 m here), and a box near its start, 3 m along it,
-// still stands on it, one object of the box's size.
+// than r_xy (at most 4000 along a side, 0.1 m here), and a box near its start, 1 m along it
+// (3 m from the sensor), still stands on it, one object of the box's size.
 TEST(StandingObjects, ABoxOnAFloorFourHundredMetresLongStandsOnIt) {
   LabeledCloud scene;
   const V3 box_at(3.0, 0, 0), box(0.2, 0.2, 0.3);
   const XyBox hidden = under(box_at, 0, box);
-  // 2.5 cm apart, two samples in each r_xy voxel; 0.4 m wide.
+  // 2.5 cm apart, two samples a side in each r_xy voxel; 0.4 m wide.
   for (double x = 2.0; x <= 402.0 + 1e-9; x += 0.025) {
     for (double y = -0.2; y <= 0.2 + 1e-9; y += 0.025) {
       if (!hidden.contains(x, y)) addPoint(scene, V3(x, y, 0), 0);
@@ -519,7 +519,8 @@ TEST(StandingObjects, ABoxTurnedASlantAndABallCloseByAreOneObjectEach) {
 // by a noise-free camera: the bottle's rim lies in front of the box's face and nothing joins
 // across it (the box's face and the bottle's side meet there as no face of one solid does):
 // two objects, each holding its thing. (Through the Kinect-like camera's pixel-independent
-// noise the box's face tells no flat patch at these ranges; see docs/algorithm.md, known limits.)
+// noise too few of the face's 1 cm patches are flat: within a metre it comes apart in strips,
+// from 1.3 m it is kept whole, the bottle with it; docs/algorithm.md, known limits.)
 TEST(StandingObjects, ABottleAgainstTheFrontOfABoxStaysApartFromIt) {
   synthetic::SensorNoise noise_free;
   noise_free.enabled = false;

@@ -511,8 +511,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     carrying[s] = top.area >= least_carrying_area ? 1 : 0;
   }
   // What rises beside an object's top (a taller box pushed against a lower one) is not on it:
-  // an object's top carries only over its own points' box (the r_xy cells of its mask would
-  // claim up to a cell of the neighbour). Something overhanging it still joins it as "beside".
+  // an object's top carries only over its own points' box (its mask's cells would claim up to
+  // a cell of the neighbour). Something overhanging it still joins it as "beside".
   for (std::size_t s = 0; s < supports.size(); ++s) {
     if (raised[supports[s]]) areas[s].tightenTo(planes[supports[s]], local_origin, margin);
   }

@@ -69,9 +69,10 @@ class SupportArea {
     }
   }
   void markOccupied(float x, float y) {
-    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
-    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
-    if (ix > 0 && iy > 0 && ix < width_ - 1 && iy < height_ - 1) mask_[iy * width_ + ix] = 1;
+    long ix, iy;  // not on the border, so that the flood from it reaches around
+    if (cellOf(x, y, ix, iy) && ix > 0 && iy > 0 && ix < width_ - 1 && iy < height_ - 1) {
+      mask_[iy * width_ + ix] = 1;
+    }
   }
   // After every occupied cell was marked: fill the holes, grow by one cell.
   void finish() {
@@ -148,9 +149,10 @@ class SupportArea {
   // things standing in it (a chair's back in front of a desk hides the desk's edge, but its
   // seat and legs below the desk's height say the desk is not there).
   bool withinHull(float x, float y) const {
-    if (hull_.size() < 3 || !near(x, y, 0) || outsideTightBox(x, y)) return false;
-    const long ix = static_cast<long>(std::floor(x / cell_)) - x0_;
-    const long iy = static_cast<long>(std::floor(y / cell_)) - y0_;
+    long ix, iy;
+    if (hull_.size() < 3 || !near(x, y, 0) || outsideTightBox(x, y) || !cellOf(x, y, ix, iy)) {
+      return false;
+    }
     // A thing's sides seen below the plane mark the rim of its footprint: the cells next to
     // them are its inside.
     for (long dy = -1; dy <= 1 && !below_.empty(); ++dy) {

@@ -2,6 +2,7 @@
 // a piece at another height, facing the other way or elsewhere keeps its own. How far apart in
 // height two pieces may be follows the sensor's noise at their ranges; where a piece lies
 // follows where its id was seen in the last second.
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -24,7 +25,7 @@ HorizontalPlane piece(int id, double height, double x0, double y0, double x1, do
   return p;
 }
 
-// One frame with no range noise: the step alone decides.
+// One frame with no range noise: the step and the up's error (1° by default) decide.
 void assignOneFrame(std::vector<HorizontalPlane>& planes, double step) {
   SurfaceGroupingOptions options;
   options.max_height_step = step;
@@ -61,9 +62,10 @@ TEST(SurfaceGrouping, HeightsFurtherApartThanTheStepAreTwoSurfaces) {
 }
 
 TEST(SurfaceGrouping, AChainThatDriftsFromTheLargestPieceKeepsItsEnd) {
-  // 0.750 - 0.765 - 0.780: each within 2 cm of the next, the last 3 cm from the largest.
-  std::vector<HorizontalPlane> planes = {piece(0, 0.750, 0, 0, 2, 2), piece(1, 0.765, 1.5, 0, 3, 1),
-                                         piece(2, 0.780, 2.8, 0, 3.5, 1)};
+  // 0.750 - 0.765 - 0.780: each within 2 cm of the next, the last 3 cm from the largest, whose
+  // centre is 1.25 m away (an up 1° off explains 2.2 cm there, not 3).
+  std::vector<HorizontalPlane> planes = {
+      piece(0, 0.750, 0, 0, 1, 1), piece(1, 0.765, 0.8, 0, 1.6, 1), piece(2, 0.780, 1.5, 0, 2, 1)};
   assignOneFrame(planes, 0.02);
   EXPECT_EQ(planes[0].surface_id, 0);
   EXPECT_EQ(planes[1].surface_id, 0);
@@ -89,6 +91,32 @@ TEST(SurfaceGrouping, HowFarApartOneSurfacesPiecesMayBeFollowsTheNoiseAtTheirRan
   EXPECT_EQ(far[1].surface_id, 1);
   grouping.assign(far, 3.0, camera, std::nullopt, false);
   EXPECT_EQ(far[1].surface_id, 1);
+}
+
+// A floor levelled by an up 0.9° off reads 3.1 cm higher 2 m further on (2 m · tan 0.9°): two
+// pieces whose centres are 2 m apart are one surface when the up's error is 1°, two when the up
+// is taken as exact.
+// Two faces 2.5 cm apart in height side by side (centres 0.4 m apart: 7 mm at 1°) stay apart.
+TEST(SurfaceGrouping, AnUpADegreeOffLeavesTheFarPiecesOfOneFloorOneSurface) {
+  const double rise = 2.0 * std::tan(0.9 * M_PI / 180.0);
+  auto floor = [rise] {
+    return std::vector<HorizontalPlane>{piece(0, 0.0, 0.0, 0.0, 2.0, 1.0),
+                                        piece(1, rise, 1.8, 0.0, 4.2, 1.0)};
+  };
+  std::vector<HorizontalPlane> planes = floor();
+  SurfaceGrouping().assign(planes, 0.0, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(planes[1].surface_id, 1) << "the larger piece names the surface";
+  EXPECT_EQ(planes[0].surface_id, 1) << rise << " m across 2 m is the up's 1°";
+  SurfaceGroupingOptions exact_up;
+  exact_up.up_error_deg = 0.0;
+  planes = floor();
+  SurfaceGrouping(exact_up).assign(planes, 0.0, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(planes[0].surface_id, 0) << "more than r_z apart with an exact up";
+  EXPECT_EQ(planes[1].surface_id, 1);
+  std::vector<HorizontalPlane> steps = {piece(0, 0.10, 0.0, 0.0, 0.5, 0.5),
+                                        piece(1, 0.125, 0.4, 0.0, 0.9, 0.4)};
+  SurfaceGrouping().assign(steps, 0.0, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(steps[1].surface_id, 1) << "a face 2.5 cm up beside the other";
 }
 
 // A table top seen whole, then cut by a box standing on it into a large piece and a strip beside

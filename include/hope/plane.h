@@ -58,9 +58,9 @@ struct HorizontalPlane {
   // The id this plane split off in this frame, or -1.
   int split_from = -1;
   // The id of the surface this plane is a piece of (FramePipeline; surface_grouping.h): pieces
-  // of one physical surface in one frame (one height within r_z or the sensor's range noise at
-  // their range, their extents overlapping) share the id of the largest of them; a plane alone
-  // carries its own id.
+  // of one physical surface in one frame (one height within r_z, or within the sensor's range
+  // noise at their ranges and the up's error across the distance between them; their extents
+  // overlapping) share the id of the largest of them; a plane alone carries its own id.
   int surface_id = 0;
 
   // Moves the plane's position fields (height, bbox, centroid, hull, outline) by `offset`.

@@ -60,8 +60,14 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
       sigma[i] = noise->at((planes[i].centroid - *viewpoint).norm());
     }
   }
+  const double up_slope = std::tan(options_.up_error_deg * M_PI / 180.0);
   auto oneReading = [&](std::size_t a, std::size_t b) {
-    const double tolerance = std::max(options_.max_height_step, std::hypot(sigma[a], sigma[b]));
+    // Independent errors of the difference of two heights: each reading's range noise, and the
+    // up's error across the horizontal distance between the pieces.
+    const double lean = (planes[a].centroid - planes[b].centroid).head<2>().norm() * up_slope;
+    const double tolerance =
+        std::max(options_.max_height_step,
+                 std::sqrt(sigma[a] * sigma[a] + sigma[b] * sigma[b] + lean * lean));
     return std::fabs(planes[a].height - planes[b].height) <= tolerance;
   };
   auto extentsOverlap = [&](std::size_t a, std::size_t b) {

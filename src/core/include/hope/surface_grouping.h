@@ -22,11 +22,18 @@ struct SurfaceGroupingOptions {
   // own step (r_z, §2.3). Further away, where the sensor's range noise σ exceeds it, Z
   // clustering itself cuts one surface's points into slices about σ apart, so two pieces are
   // one surface when their heights differ by at most (σ(d_a)² + σ(d_b)²)^½, the noise of a
-  // difference of readings at their ranges d (assign()): a depth camera's floor read 3 and 4 m
-  // away (σ 14 and 28 mm there) differs by centimetres in one frame. One σ, not more: the
-  // extraction tells surfaces 2 cm apart at 2.5 m (a box on a table) by their means, and they
-  // stay apart.
+  // difference of readings at their ranges d, with the up's error below (assign()): a depth
+  // camera's floor read 3 and 4 m away (σ 14 and 28 mm there) differs by centimetres in one
+  // frame. One σ, not more: the extraction tells surfaces 2 cm apart at 2.5 m (a box on a
+  // table) by their means, and they stay apart.
   double max_height_step = 0.02;
+  // The error of the frame's up, degrees: the reference frame's z is the up only to within it
+  // (an IMU's or an accelerometer's usual error, the scene levelling's on a table, a pose
+  // estimate's), so one level surface reads higher by up to d·tan(error) at a horizontal
+  // distance d (1° is 3.5 cm across 2 m). Two pieces are one surface when their heights
+  // differ by at most that and the range noise together (assign()); pieces side by side (a
+  // step 2 cm up from its neighbour 0.4 m away, 7 mm at 1°) still stand apart by their means.
+  double up_error_deg = 1.0;
   // Where a piece lies is where its id was seen within this many seconds (this frame
   // included): pieces the frame shows apart (an occluder's shadow between them) but whose ids'
   // recent extents overlap are one surface. A second: a sensor moves little in one, so the

@@ -1,7 +1,7 @@
 // Surface ids (surface_grouping.h): pieces of one surface in a frame share the largest one's id;
 // a piece at another height, facing the other way or elsewhere keeps its own. How far apart in
-// height two pieces may be follows the sensor's noise at their ranges; where a piece lies
-// follows where its id was seen in the last second.
+// height two pieces may be follows the sensor's noise at their ranges and the up's error across
+// the distance between them; where a piece lies follows where its id was seen in the last second.
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -86,7 +86,8 @@ TEST(SurfaceGrouping, HowFarApartOneSurfacesPiecesMayBeFollowsTheNoiseAtTheirRan
                                        piece(1, 0.03, 0.6, 0.3, 1.2, 0.9)};
   grouping.assign(near, 1.0, camera, RangeNoise::depthCamera(), false);
   EXPECT_EQ(near[1].surface_id, 1) << "3 cm at 1.3 m is a thing 3 cm up";
-  // Without a noise model (or a viewpoint) the step alone decides, far away too.
+  // Without a noise model (or a viewpoint) the step and the up's error (1.2 cm across the 0.7 m
+  // between the pieces' centres) decide, far away too.
   grouping.assign(far, 2.0, std::nullopt, RangeNoise::depthCamera(), false);
   EXPECT_EQ(far[1].surface_id, 1);
   grouping.assign(far, 3.0, camera, std::nullopt, false);
@@ -116,7 +117,38 @@ TEST(SurfaceGrouping, AnUpADegreeOffLeavesTheFarPiecesOfOneFloorOneSurface) {
   std::vector<HorizontalPlane> steps = {piece(0, 0.10, 0.0, 0.0, 0.5, 0.5),
                                         piece(1, 0.125, 0.4, 0.0, 0.9, 0.4)};
   SurfaceGrouping().assign(steps, 0.0, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(steps[0].surface_id, 0);
   EXPECT_EQ(steps[1].surface_id, 1) << "a face 2.5 cm up beside the other";
+  // The same faces 2.7–2.8 m from a depth camera: 16.7 mm of noise in the difference of their
+  // readings (σ 12.0 and 11.5 mm), 18.1 mm with the up's 7 mm, less than the 2.5 cm between them.
+  const Eigen::Vector3d camera(0.45, -2.5, 0.5);
+  steps = {piece(0, 0.10, 0.0, 0.0, 0.5, 0.5), piece(1, 0.125, 0.4, 0.0, 0.9, 0.4)};
+  SurfaceGrouping().assign(steps, 0.0, camera, RangeNoise::depthCamera(), false);
+  EXPECT_EQ(steps[0].surface_id, 0);
+  EXPECT_EQ(steps[1].surface_id, 1) << "2.5 cm up at 2.5 m";
+  // A platform 5 cm up whose centre is 3 m from the floor's (5.2 cm at 1°): the up's share is
+  // held to two steps (4 cm), and the platform stays apart.
+  std::vector<HorizontalPlane> room = {piece(0, 0.0, 0.0, 0.0, 6.0, 4.0),
+                                       piece(1, 0.05, 5.5, 1.5, 6.5, 2.5)};
+  SurfaceGrouping().assign(room, 0.0, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(room[1].surface_id, 1) << "a platform 5 cm up";
+}
+
+TEST(SurfaceGrouping, OptionsOutOfRangeAreRefusedByName) {
+  SurfaceGroupingOptions options;
+  options.up_error_deg = 90.0;
+  EXPECT_THROW(SurfaceGrouping{options}, std::invalid_argument);
+  options.up_error_deg = -1.0;
+  EXPECT_THROW(SurfaceGrouping{options}, std::invalid_argument);
+  options.up_error_deg = std::nan("");
+  EXPECT_THROW(SurfaceGrouping{options}, std::invalid_argument);
+  options = SurfaceGroupingOptions();
+  options.max_height_step = 0.0;
+  EXPECT_THROW(SurfaceGrouping{options}, std::invalid_argument);
+  options = SurfaceGroupingOptions();
+  options.memory_s = -1.0;
+  EXPECT_THROW(SurfaceGrouping{options}, std::invalid_argument);
+  EXPECT_NO_THROW(SurfaceGrouping{SurfaceGroupingOptions()});
 }
 
 // A table top seen whole, then cut by a box standing on it into a large piece and a strip beside

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace hope {
@@ -23,13 +25,28 @@ std::size_t root(std::vector<std::size_t>& parent, std::size_t i) {
 
 }  // namespace
 
+void validate(const SurfaceGroupingOptions& options) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("surface grouping: " + what);
+  };
+  require(options.max_height_step > 0 && options.max_height_step <= 10,
+          "max_height_step = " + std::to_string(options.max_height_step) +
+              " is out of range (0, 10] m");
+  require(options.up_error_deg >= 0 && options.up_error_deg <= 45,
+          "up_error_deg = " + std::to_string(options.up_error_deg) + " is out of range [0, 45]");
+  require(options.memory_s >= 0 && options.memory_s <= 3600,
+          "memory_s = " + std::to_string(options.memory_s) + " is out of range [0, 3600] s");
+}
+
 SurfaceGroupingOptions surfaceGroupingOptionsFor(const Params& params) {
   SurfaceGroupingOptions options;
   options.max_height_step = params.r_z;
   return options;
 }
 
-SurfaceGrouping::SurfaceGrouping(const SurfaceGroupingOptions& options) : options_(options) {}
+SurfaceGrouping::SurfaceGrouping(const SurfaceGroupingOptions& options) : options_(options) {
+  validate(options_);
+}
 
 void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
                              const std::optional<Eigen::Vector3d>& viewpoint,
@@ -63,8 +80,13 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
   const double up_slope = std::tan(options_.up_error_deg * M_PI / 180.0);
   auto oneReading = [&](std::size_t a, std::size_t b) {
     // Independent errors of the difference of two heights: each reading's range noise, and the
-    // up's error across the horizontal distance between the pieces.
-    const double lean = (planes[a].centroid - planes[b].centroid).head<2>().norm() * up_slope;
+    // up's error across the horizontal distance between the pieces, at most two steps (a
+    // platform stays apart from the floor around it). A piece with no finite centroid has no
+    // distance to lean across.
+    const double distance = (planes[a].centroid - planes[b].centroid).head<2>().norm();
+    const double lean = std::isfinite(distance)
+                            ? std::min(distance * up_slope, 2.0 * options_.max_height_step)
+                            : 0.0;
     const double tolerance =
         std::max(options_.max_height_step,
                  std::sqrt(sigma[a] * sigma[a] + sigma[b] * sigma[b] + lean * lean));

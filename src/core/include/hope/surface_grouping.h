@@ -33,6 +33,9 @@ struct SurfaceGroupingOptions {
   // distance d (1° is 3.5 cm across 2 m). Two pieces are one surface when their heights
   // differ by at most that and the range noise together (assign()); pieces side by side (a
   // step 2 cm up from its neighbour 0.4 m away, 7 mm at 1°) still stand apart by their means.
+  // The up's share is held to 2·max_height_step (reached 2.3 m apart at 1°): a thing as tall
+  // as two of Z clustering's steps (a platform, a threshold) stays apart from the floor around
+  // it however far their centres are. In [0, 45].
   double up_error_deg = 1.0;
   // Where a piece lies is where its id was seen within this many seconds (this frame
   // included): pieces the frame shows apart (an occluder's shadow between them) but whose ids'
@@ -41,6 +44,10 @@ struct SurfaceGroupingOptions {
   // levelling's hold assumes (PipelineOptions::level_hold_s).
   double memory_s = 1.0;
 };
+
+// Throws std::invalid_argument naming the option that is out of range: max_height_step in
+// (0, 10] m, up_error_deg in [0, 45], memory_s in [0, 3600] s, all finite.
+void validate(const SurfaceGroupingOptions& options);
 
 // The grouping matched to an extraction's parameters: its step r_z.
 SurfaceGroupingOptions surfaceGroupingOptionsFor(const Params& params);
@@ -55,7 +62,8 @@ class SurfaceGrouping {
   // id as long as the largest piece keeps its own; a piece whose height is not one reading
   // with the largest's (at the end of a chain) keeps its own. A plane alone is its own
   // surface: surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
-  // range of each piece) and `noise` its range noise; without either, the step alone.
+  // range of each piece) and `noise` its range noise; without either, the step and the up's
+  // error alone.
   // `remember`: the planes' ids are persistent (a tracker's or a map's), and this frame's
   // boxes extend their extents for the frames to come; a stamp older than the last forgets
   // every extent (a looping bag). Without it (a frame answered apart from the stream) the

@@ -44,11 +44,12 @@ What to expect:
   higher at 1 Hz than at 3 Hz.
 - **With an orientation only** (an IMU, an accelerometer, up from the scene): the frame follows
   the sensor, and the tracker must tell the scene's apparent motion between two frames from the
-  planes themselves (a turn and a shift fit to a first matching). Slow motion between frames
+  planes themselves (a turn and a shift fit to a first matching, made as the planes are and
+  after the last frame's motion). Slow motion between frames
   keeps ids (the study room turns 0.6° and moves 1 cm between frames at 30 Hz, 3° and 6 cm at
   6 Hz). The kitchen, a hand-held camera walking, turns a median 3.6° and moves 7 cm between
   frames at 3 Hz, 7° and 14 cm at 1.5 Hz, 9° (at most 19°) and 21 cm at 1 Hz: a 9° turn moves
-  a plane 3 m away by half a metre in the frame, and the accelerometer's ids fall from 53 % to
+  a plane 3 m away by half a metre in the frame, and the accelerometer's ids fall from 63 % to
   44 %. Give poses where the frames are far apart.
 
 TEXT

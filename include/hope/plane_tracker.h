@@ -16,7 +16,8 @@ enum class TrackingMode {
   // the previous and the current frame only; conflicts go to the closest.
   kPaper,
   // Gated, optimal one-to-one assignment on physical costs after removing the scene's
-  // apparent motion (a turn and a shift estimated from a first pass), with memory of lost
+  // apparent motion (a turn and a shift estimated from a first pass, made both as the planes
+  // are and after the last frame's motion), with memory of lost
   // planes and explicit merge / split handling. The default.
   kImproved,
 };
@@ -106,6 +107,10 @@ class PlaneTracker {
   TrackerOptions options_;
   std::vector<Track> tracks_;
   int next_id_ = 0;
+  // The scene's apparent motion over the last frame (improved mode): a sensor moves on much as
+  // it moved, so the next frame's first pairing is also tried with it.
+  double last_turn_ = 0.0;
+  Eigen::Vector3d last_shift_ = Eigen::Vector3d::Zero();
   // Gating indexes and the planes' boxes and heights in compact arrays, kept so that their
   // memory is reused frame after frame (not copied with the tracker).
   struct Scratch;

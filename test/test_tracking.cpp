@@ -228,9 +228,11 @@ TEST(PlaneTracker, ImprovedModeGivesAPlaneHiddenForThreeFramesItsIdBack) {
 TEST(PlaneTracker, ImprovedModeFollowsASensorThatMovesOnAsItMoved) {
   // Five 10 cm planes at heights 15 cm apart, 0.5 m apart, seen by a sensor that speeds up to
   // 28 cm a frame (a hand-held camera walking at 3 Hz with an orientation only: the scene moves
-  // by the sensor's motion), then stops dead. From 20 cm a frame on, a plane is more than the
-  // 9 cm the cost allows clear of where it was; it is 4 cm from where the last frame's motion
-  // puts it. Every plane is the same surface throughout: its first id, in every frame.
+  // by the sensor's motion), then stops dead. From 20 cm a frame on, a plane's box is more than
+  // the 9 cm the cost allows clear of its old box (at 20 cm: 1 + 7.2 + 1.0 = 9.2); after the
+  // last frame's motion it lies a few centimetres off (the motion measured from the planes'
+  // centroids reads part of a shift as a turn). Every plane is the same surface throughout: its
+  // first id, in every frame.
   const double velocity[] = {0.04, 0.08, 0.12, 0.16, 0.20, 0.24, 0.28, 0.28, 0.28, 0.0, 0.0};
   PlaneTracker tracker(mode(TrackingMode::kImproved));
   const auto scene = [](double shift) {

@@ -82,7 +82,8 @@ class PlaneTracker {
   // are never reused. `stamp` is the frame time in seconds.
   std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp);
 
-  // Forgets all planes; the next frame starts ids from where they were (never reused).
+  // Forgets all planes and the scene's last motion; the next frame starts ids from where they
+  // were (never reused).
   void reset();
 
   // Planes that are remembered but were not seen in the last frame (improved mode), with the

@@ -230,7 +230,8 @@ std::vector<CandidatePair> candidatePairs(const std::vector<Track>& tracks,
 
 // The weighted median of (value, weight) pairs: the smallest value at which the running
 // weight, in ascending order of value, reaches half the total. Found by selection (expected
-// linear time) rather than a full sort: it runs four times per frame over every pair.
+// linear time) rather than a full sort: it runs four times per motion measured (up to two a
+// frame) over every pair.
 double weightedMedian(std::vector<std::pair<double, double>>& samples) {
   double total = 0;
   for (const auto& s : samples) total += s.second;
@@ -386,10 +387,11 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   const int num_tracks = static_cast<int>(tracks_.size());
   const int num_planes = static_cast<int>(planes.size());
 
-  // Two passes: the first pairs planes as they are; those pairs give the apparent motion of
-  // the whole scene (a turn about the origin and a shift: large when only gravity is known,
-  // so the reference frame moves with the camera), which the second pass removes first.
-  // The motion is kept only when it explains the frame better than no motion.
+  // A first pairing of the planes as they are gives the apparent motion of the whole scene (a
+  // turn about the origin and a shift: large when only gravity is known, so the reference
+  // frame moves with the camera), which a second pairing removes first; so does one made after
+  // the last frame's motion. A motion is kept only when it explains the frame better than the
+  // pairing kept so far.
   const double unpaired = 0.5 * o.max_match_cost;
   // Each track is priced against the planes near it only (gating before assignment: all
   // tracks × all planes would cost n²).
@@ -424,8 +426,8 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
       motion = estimate;
     }
   };
-  const SparseAssignment unmoved = assignment;
-  tryMeasuredMotion(unmoved);
+  // `first` is read only before `assignment` is replaced: the unmoved pairing itself may go in.
+  tryMeasuredMotion(assignment);
   // A sensor moves on much as it moved: the pairs made after the last frame's motion measure
   // this frame's too, where the scene moved past the reach of pairs made as it is (a hand-held
   // camera at 3 Hz: ~7 cm and 4° a frame). Only the motion they measure is used, never the

@@ -1,17 +1,19 @@
 // Speed of the HoPE pipeline and of each stage, beside PCL's reference implementations of the
 // same front-end stages (VoxelGrid, NormalEstimation with a k-d tree) and the paper's two
-// reference pipelines built from PCL (region growing, RANSAC), in the same run; and
+// reference pipelines built from PCL (region growing, RANSAC), in the same run; the objects
+// stage beside the planes, and PCL's tabletop pipeline and LCCP on the same tabletop; and
 // the cost of plane tracking per frame (paper's NNPM and the improved tracker).
 //
 //   build/devel/lib/hope/hope_benchmark [--benchmark_filter=TUM]
 //
-// Inputs: the TUM freiburg1_desk frame from $HOPE_SHARED_DATA (default ../shared/data from
-// the working directory; skipped when absent), and generated on first use: a 6-million-point
-// unorganized scan of the synthetic demo room, the pattern object seen by a camera and a
-// simulated HDL-64E street scan.
+// Inputs: the TUM freiburg1_desk frame and mOSD's test57 from $HOPE_SHARED_DATA (default
+// ../shared/data from the working directory; skipped when absent), and generated on first use: a
+// 6-million-point unorganized scan of the synthetic demo room, the pattern object seen by a camera
+// and a simulated HDL-64E street scan.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -22,14 +24,18 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <pcl/common/io.h>
 #include <pcl/common/transforms.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
+#include <pcl/io/pcd_io.h>
 #include <pcl/search/kdtree.h>
+#include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/depth_image.h"
 #include "hope/evaluation/baselines.h"
+#include "hope/evaluation/object_baselines.h"
 #include "hope/extractor.h"
 #include "hope/frame_pipeline.h"
 #include "hope/plane_tracker.h"
@@ -120,14 +126,66 @@ const Input& lidarScan() {
   return input;
 }
 
+// mOSD's test57 (mixed and complex clutter on a table, 640×480 Kinect) from
+// $HOPE_SHARED_DATA/mosd_dev, and its up: the normal of its labelled table top (labels 1–9)
+// turned towards the camera, as scripts/score_objects.sh gives it to hope and to PCL. Its
+// colours are kept for LCCP's supervoxels.
+struct TabletopInput : Input {
+  std::vector<Eigen::Vector3f> points;  // the sensor frame, NaN where nothing was measured
+  std::vector<std::uint32_t> rgb;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+};
+
+const TabletopInput& clutteredTable() {
+  static const TabletopInput input = [] {
+    TabletopInput in;
+    const char* shared = std::getenv("HOPE_SHARED_DATA");
+    const std::string path =
+        std::string(shared && *shared ? shared : "../shared/data") + "/mosd_dev/test57.pcd";
+    pcl::PointCloud<pcl::PointXYZRGBL> scene;
+    if (pcl::io::loadPCDFile(path, scene) != 0 || scene.empty()) {
+      in.error = "mOSD scene not found at " + path + " (set HOPE_SHARED_DATA)";
+      return in;
+    }
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    double count = 0;
+    for (const auto& q : scene) {
+      in.points.emplace_back(q.x, q.y, q.z);
+      in.rgb.push_back(q.rgba & 0xffffffu);
+      if (q.label >= 1 && q.label <= 9 && std::isfinite(q.z)) {
+        const Eigen::Vector3d v(q.x, q.y, q.z);
+        sum += v;
+        outer += v * v.transpose();
+        ++count;
+      }
+    }
+    if (count < 3) {
+      in.error = path + " has no labelled table top";
+      return in;
+    }
+    const Eigen::Vector3d centre = sum / count;
+    const Eigen::Matrix3d covariance = outer / count - centre * centre.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+    in.up = solver.eigenvectors().col(0);  // the smallest spread: the table's normal
+    if (in.up.dot(-centre) < 0) in.up = -in.up;
+    pcl::copyPointCloud(scene, *in.cloud);
+    in.pose = hope::Orientation::fromGravity(in.up.x(), in.up.y(), in.up.z());
+    return in;
+  }();
+  return input;
+}
+
 const Input& inputFor(int which) {
   return which == 0   ? tumFrame()
          : which == 1 ? largeCloud()
          : which == 2 ? patternView()
-                      : lidarScan();
+         : which == 3 ? lidarScan()
+                      : clutteredTable();
 }
 const char* kInputNames[] = {"TUM_fr1_desk_640x480", "Room_6M_unorganized",
-                             "Pattern_object_640x480_r0.009", "HDL64_street_64x2118_r0.3"};
+                             "Pattern_object_640x480_r0.009", "HDL64_street_64x2118_r0.3",
+                             "mOSD_test57_640x480"};
 
 // The input selected by the benchmark's argument, or nullptr (and the benchmark marked
 // skipped, with the reason) when it is unavailable.
@@ -186,6 +244,59 @@ void BM_Hope(benchmark::State& state) {
                               : "") +
                  (params.threads > 1 ? ", " + std::to_string(params.threads) + " threads" : ""));
 }
+// The objects standing on the planes and the free areas (ExtractOutputs::objects) beside the
+// planes they stand on, in the same calls: the objects stage's time and the rest of the
+// extraction's. Arguments: input (0 TUM frame, 3 HDL-64E street scan, 4 mOSD test57).
+// Counters: planes_ms (the extraction without the objects stage), objects_ms, their ratio
+// objects_per_planes (issue 40's target: at most 1), objects.
+void BM_Objects(benchmark::State& state) {
+  const Input* input = inputOrSkip(state);
+  if (!input) return;
+  const Input& in = *input;
+  hope::Extractor extractor(in.params);
+  hope::ExtractOutputs outputs;
+  outputs.objects = true;
+  double planes_ms = 0, objects_ms = 0;
+  std::size_t objects = 0;
+  for (auto _ : state) {
+    const hope::Result r = extractor.extract(hope::PointsView::of(*in.cloud), in.pose, outputs);
+    benchmark::DoNotOptimize(r.objects.data());
+    planes_ms += r.timings.total_ms - r.timings.objects_ms;
+    objects_ms += r.timings.objects_ms;
+    objects = r.objects.size();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["planes_ms"] = planes_ms / n;
+  state.counters["objects_ms"] = objects_ms / n;
+  state.counters["objects_per_planes"] = objects_ms / std::max(planes_ms, 1e-9);
+  state.counters["objects"] = static_cast<double>(objects);
+  state.SetLabel(kInputNames[state.range(0)]);
+}
+BENCHMARK(BM_Objects)->Arg(0)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The reference pipelines for objects on a table, as hope_object_baselines runs them
+// (hope/evaluation/object_baselines.h), on the same mOSD scene as BM_Objects/4, from the
+// points to the labels. Argument: 0 PCL's classic tabletop pipeline, 1 LCCP.
+void BM_PclObjects(benchmark::State& state) {
+  const TabletopInput& in = clutteredTable();
+  if (!in.error.empty()) {
+    state.SkipWithError(in.error.c_str());
+    return;
+  }
+  const bool lccp = state.range(0) == 1;
+  int objects = 0;
+  for (auto _ : state) {
+    const hope::evaluation::ObjectBaselineResult r =
+        lccp ? hope::evaluation::lccpObjects(in.points, in.rgb, in.up)
+             : hope::evaluation::tabletopObjects(in.points, in.up);
+    benchmark::DoNotOptimize(r.point_objects.data());
+    objects = r.num_objects;
+  }
+  state.counters["objects"] = objects;
+  state.SetLabel(std::string(kInputNames[4]) + (lccp ? ", LCCP" : ", PCL tabletop pipeline"));
+}
+BENCHMARK(BM_PclObjects)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Cores kept busy for as long as it lives, as other nodes on a robot keep them: threads that
 // spin, scheduled by the kernel like any other process's.
 class BusyCores {

@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -24,18 +23,16 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
-#include <pcl/common/io.h>
 #include <pcl/common/transforms.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
-#include <pcl/io/pcd_io.h>
 #include <pcl/search/kdtree.h>
-#include <Eigen/Eigenvalues>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hope/depth_image.h"
 #include "hope/evaluation/baselines.h"
 #include "hope/evaluation/object_baselines.h"
+#include "hope/evaluation/table_scenes.h"
 #include "hope/extractor.h"
 #include "hope/frame_pipeline.h"
 #include "hope/plane_tracker.h"
@@ -43,6 +40,7 @@
 #include "hope/synthetic/lidar.h"
 #include "hope/synthetic/paper_scenes.h"
 #include "hope/synthetic/scene.h"
+#include "hope/tools/io.h"
 #include "hope/up_estimation.h"
 #include "hope_ros/cloud_conversion.h"
 
@@ -55,12 +53,16 @@ struct Input {
   std::string error;
 };
 
+// A path under $HOPE_SHARED_DATA (default ../shared/data from the working directory).
+std::string sharedData(const std::string& relative) {
+  const char* shared = std::getenv("HOPE_SHARED_DATA");
+  return std::string(shared && *shared ? shared : "../shared/data") + "/" + relative;
+}
+
 const Input& tumFrame() {
   static const Input input = [] {
     Input in;
-    const char* shared = std::getenv("HOPE_SHARED_DATA");
-    const std::string dir =
-        std::string(shared && *shared ? shared : "../shared/data") + "/tum_fr1_desk";
+    const std::string dir = sharedData("tum_fr1_desk");
     const cv::Mat depth = cv::imread(dir + "/1305031459.274941.png", cv::IMREAD_ANYDEPTH);
     std::ifstream gt(dir + "/groundtruth.txt");
     if (depth.empty() || !gt) {
@@ -127,50 +129,28 @@ const Input& lidarScan() {
 }
 
 // mOSD's test57 (mixed and complex clutter on a table, 640×480 Kinect) from
-// $HOPE_SHARED_DATA/mosd_dev, and its up: the normal of its labelled table top (labels 1–9)
-// turned towards the camera, as scripts/score_objects.sh gives it to hope and to PCL. Its
-// colours are kept for LCCP's supervoxels.
+// $HOPE_SHARED_DATA/mosd_dev, with the up every mOSD figure uses (the labelled table top's
+// normal, loadLabelledTableScene) and the points and colours as hope_object_baselines reads
+// them for PCL's pipelines.
 struct TabletopInput : Input {
-  std::vector<Eigen::Vector3f> points;  // the sensor frame, NaN where nothing was measured
-  std::vector<std::uint32_t> rgb;
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  hope::tools::InputCloud file;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // in the sensor frame
 };
 
 const TabletopInput& clutteredTable() {
   static const TabletopInput input = [] {
     TabletopInput in;
-    const char* shared = std::getenv("HOPE_SHARED_DATA");
-    const std::string path =
-        std::string(shared && *shared ? shared : "../shared/data") + "/mosd_dev/test57.pcd";
-    pcl::PointCloud<pcl::PointXYZRGBL> scene;
-    if (pcl::io::loadPCDFile(path, scene) != 0 || scene.empty()) {
-      in.error = "mOSD scene not found at " + path + " (set HOPE_SHARED_DATA)";
-      return in;
+    const std::string path = sharedData("mosd_dev/test57.pcd");
+    try {
+      hope::evaluation::LabelledTableScene scene = hope::evaluation::loadLabelledTableScene(path);
+      in.file = hope::tools::loadCloud(path);
+      *in.cloud = std::move(scene.cloud);
+      in.pose = scene.orientation;
+      in.up =
+          scene.orientation.sensorToReference().rotation().transpose() * Eigen::Vector3d::UnitZ();
+    } catch (const std::exception& e) {
+      in.error = std::string(e.what()) + " (set HOPE_SHARED_DATA)";
     }
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    double count = 0;
-    for (const auto& q : scene) {
-      in.points.emplace_back(q.x, q.y, q.z);
-      in.rgb.push_back(q.rgba & 0xffffffu);
-      if (q.label >= 1 && q.label <= 9 && std::isfinite(q.z)) {
-        const Eigen::Vector3d v(q.x, q.y, q.z);
-        sum += v;
-        outer += v * v.transpose();
-        ++count;
-      }
-    }
-    if (count < 3) {
-      in.error = path + " has no labelled table top";
-      return in;
-    }
-    const Eigen::Vector3d centre = sum / count;
-    const Eigen::Matrix3d covariance = outer / count - centre * centre.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-    in.up = solver.eigenvectors().col(0);  // the smallest spread: the table's normal
-    if (in.up.dot(-centre) < 0) in.up = -in.up;
-    pcl::copyPointCloud(scene, *in.cloud);
-    in.pose = hope::Orientation::fromGravity(in.up.x(), in.up.y(), in.up.z());
     return in;
   }();
   return input;
@@ -287,8 +267,8 @@ void BM_PclObjects(benchmark::State& state) {
   int objects = 0;
   for (auto _ : state) {
     const hope::evaluation::ObjectBaselineResult r =
-        lccp ? hope::evaluation::lccpObjects(in.points, in.rgb, in.up)
-             : hope::evaluation::tabletopObjects(in.points, in.up);
+        lccp ? hope::evaluation::lccpObjects(in.file.points, in.file.rgb, in.up)
+             : hope::evaluation::tabletopObjects(in.file.points, in.up);
     benchmark::DoNotOptimize(r.point_objects.data());
     objects = r.num_objects;
   }

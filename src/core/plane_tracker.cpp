@@ -105,6 +105,12 @@ struct SceneMotion {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
 };
 
+// Far below the cost scales (a static sensor: the median of the planes' jitter): removing it
+// would change no cost measurably.
+bool negligible(const SceneMotion& motion) {
+  return !(std::fabs(motion.yaw) > kNegligibleTurn || motion.shift.norm() > kNegligibleShift);
+}
+
 // What the pairing cost needs of a remembered plane, after the scene's motion.
 struct MovedPlane {
   std::array<double, 4> bbox;
@@ -412,12 +418,10 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   SceneMotion motion;
   SparseAssignment assignment = assignAfter(motion);
   // The motion the pairs of `first` measure, kept when pairing after it explains the frame
-  // better than the best so far. A motion far below the cost scales (a static sensor: the
-  // median of the planes' jitter) would change no cost measurably; it is not tried.
+  // better than the best so far; a negligible one is not tried.
   const auto tryMeasuredMotion = [&](const SparseAssignment& first) {
     SceneMotion estimate;
-    if (!estimateMotion(tracks_, planes, first.col_of_row, estimate) ||
-        !(std::fabs(estimate.yaw) > kNegligibleTurn || estimate.shift.norm() > kNegligibleShift)) {
+    if (!estimateMotion(tracks_, planes, first.col_of_row, estimate) || negligible(estimate)) {
       return;
     }
     SparseAssignment compensated = assignAfter(estimate);
@@ -435,9 +439,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   SceneMotion last;
   last.yaw = last_turn_;
   last.shift = last_shift_;
-  if (std::fabs(last.yaw) > kNegligibleTurn || last.shift.norm() > kNegligibleShift) {
-    tryMeasuredMotion(assignAfter(last));
-  }
+  if (!negligible(last)) tryMeasuredMotion(assignAfter(last));
   const std::vector<int>& assigned = assignment.col_of_row;
   last_turn_ = motion.yaw;
   last_shift_ = motion.shift;

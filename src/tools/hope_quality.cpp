@@ -159,7 +159,7 @@ void demoRoomFigures(bool verbose) {
 // A room with one cabinet (issue 40's held-out cabinet room, with exact truth): a cabinet
 // 0.5 × 0.4 × 0.58 m standing on a floor, seen from every side by a Kinect-like camera (depth
 // noise and disparity steps growing with the square of the range, grazing dropouts) held at
-// 1.3 m, from 1.2 to 3.6 m away: 12 headings at each of four distances. Per frame the
+// 1.3 m, from 1.2 to 3.6 m away: 8 headings at each of three distances. Per frame the
 // cabinet is whole when one object holds at least 80 % of its seen points; an object is false
 // when under half of its points are on the cabinet (the floor's noise, a sliver). The room
 // holds one thing, so every other object is one too many.

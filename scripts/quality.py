@@ -193,7 +193,8 @@ def identities(sequence, mode):
 def measure():
     jobs = [(hope_quality, ('levelling',)), (mosd_objects, ()), (mosd_whole_objects, ())]
     jobs += [(identities, (s, m)) for s in SEQUENCES for m in ID_MODES]
-    jobs += [(hope_quality, ('rooms',)), (hope_quality, ('tables',)), (hope_quality, ('synthetic',))]
+    jobs += [(hope_quality, ('rooms',)), (hope_quality, ('tables',)), (hope_quality, ('synthetic',)),
+             (hope_quality, ('cabinet',))]
     figures, errors = {}, []
     # Two at a time: the tools run on one thread each, and the machine has two cores.
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:

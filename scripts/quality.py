@@ -49,8 +49,8 @@ SKIPPED = 'skipped'
 SEQUENCES = {'kitchen': 'kitchen_dev', 'studyroom': 'studyroom_dev'}
 
 
-# The limits below are for a hang, set at some 20 times a release build's time;
-# scripts/sanitize.sh's instrumented build runs 20 to 30 times slower and scales them.
+# The limits below are for a hang, set at some 20 times a release build's time; a slow machine
+# or an instrumented build (20 to 30 times slower) scales them with QUALITY_TIMEOUT_SCALE.
 TIMEOUT_SCALE = float(os.environ.get('QUALITY_TIMEOUT_SCALE') or 1)
 
 

@@ -18,15 +18,17 @@ cmake --build "$out" -j2 >/dev/null
 cmake --build "$out" -j2 --target tests >/dev/null
 export ROS_HOSTNAME=localhost ROS_HOME="$out/ros_home" ROS_LOG_DIR="$out/ros_home/log"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-# The quality guard's own test measures the synthetic figures in this build, 20-30 times slower.
-export QUALITY_TIMEOUT_SCALE=3
 asan_runtime=$(gcc -print-file-name=libasan.so)
 cd "$out"
 # The downstream test installs and builds against the install space; an instrumented install
 # is no use to an uninstrumented downstream build, so it runs in the ordinary suite only.
+# The quality guard measures every figure over whole data sets, and the docs-examples test runs
+# every command the docs print: 24 and 9 minutes under ASan on the CI machine; the ordinary
+# (release) suite runs both. Under the sanitizers the same code paths run in the unit,
+# CLI and hostile-input tests; these two would push the CI past its 90-minute limit.
 echo "== unit tests under ASan + UBSan"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 ctest --output-on-failure \
-  -E "rostest|python_|downstream_install"
+  -E "rostest|python_|downstream_install|quality_guard"
 echo "== rostests under ASan + UBSan (runtime preloaded into the ROS processes)"
 LD_PRELOAD=$asan_runtime ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0 \
   ctest --output-on-failure -R rostest
@@ -35,4 +37,4 @@ LD_PRELOAD=$asan_runtime ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asa
 echo "== the Python tests under ASan + UBSan (runtime preloaded into the interpreter)"
 LD_PRELOAD="$asan_runtime $(gcc -print-file-name=libstdc++.so.6)" \
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:verify_asan_link_order=0 \
-  ctest --output-on-failure -R "^python_"
+  ctest --output-on-failure -R "^python_" -E "^python_docs_examples$"

@@ -21,9 +21,8 @@ def guard(*args, floors=None, data=None):
     if data is not None:
         env['HOPE_SHARED_DATA'] = data
     # The synthetic parts (demo room, pattern, streets; 210 staircase renderings; the cabinet room)
-    # take about 35 s here on two cores and some 20-30 times that in scripts/sanitize.sh's
-    # instrumented build, which scales the guard's limits (QUALITY_TIMEOUT_SCALE): the limit is
-    # for a hang.
+    # take about 35 s here on two cores; the limit is for a hang. A slow machine or an
+    # instrumented build scales it (QUALITY_TIMEOUT_SCALE).
     scale = float(os.environ.get('QUALITY_TIMEOUT_SCALE') or 1)
     r = subprocess.run([sys.executable, GUARD, *args], capture_output=True, text=True, env=env,
                        timeout=1800 * scale)

@@ -152,6 +152,69 @@ TEST(SurfaceMap, TwoHalvesOfATableThatLaterMeetMergeIntoTheOlderId) {
   EXPECT_EQ(again[0].id, a[0].id);
 }
 
+// Two halves mapped apart, the second seen in more frames: when one view shows them one
+// surface, the merged entry keeps the id most observations carried (the second's), so the
+// fewest observations change id.
+TEST(SurfaceMap, TwoEntriesThatMeetMergeIntoTheOneSeenInMoreFrames) {
+  SurfaceMap map;
+  double stamp = 0;
+  std::vector<HorizontalPlane> a = {plane(0, 0, 0.5, 0.8, 0.75)};
+  map.update(a, stamp += 0.1, kEye);
+  int b_id = -1;
+  for (int f = 0; f < 3; ++f) {
+    std::vector<HorizontalPlane> b = {plane(0.8, 0, 1.3, 0.8, 0.75)};
+    map.update(b, stamp += 0.1, kEye);
+    ASSERT_NE(b[0].id, a[0].id) << "a 30 cm gap: two surfaces as far as anyone knows";
+    b_id = b[0].id;
+  }
+  std::vector<HorizontalPlane> whole = {plane(0, 0, 1.3, 0.8, 0.75)};
+  const std::vector<TrackEvent> events = map.update(whole, stamp += 0.1, kEye);
+  EXPECT_EQ(whole[0].id, b_id);
+  EXPECT_TRUE(hasEvent(events, TrackEvent::Kind::kMerged, a[0].id, b_id));
+  EXPECT_EQ(map.size(), 1u);
+}
+
+// A pose whose tilt is 1.2° off (beyond an IMU's usual 1°, as a motion-capture pose can be)
+// moves a surface 3 m from the sensor by 6.3 cm in height, past max_height_change: the map
+// would take it for a new surface. Two surfaces 1.6 m away, moved by 3.4 cm and still matched,
+// measure the tilt; the far ones then keep their ids. Without the pose's error as a prior
+// (tilt_error_deg and height_error 0: heights as measured) they take new ids.
+TEST(SurfaceMap, APoseTiltedByMoreThanTheHeightGateIsMeasuredByTheSurfacesSeenAgain) {
+  const Eigen::Vector3d sensor(0, 0, 1.5);
+  const double tilt = std::tan(1.2 * M_PI / 180.0);
+  // Four level surfaces in the map's frame, centred 3 m and 1.6 m either side of the sensor.
+  const auto scene = [&](double slope) {
+    const std::array<std::array<double, 2>, 4> surfaces = {
+        {{-3.0, 0.75}, {-1.6, 0.0}, {1.6, 0.4}, {3.0, 0.9}}};  // x, height
+    std::vector<HorizontalPlane> planes;
+    for (const auto& [x, height] : surfaces) {
+      planes.push_back(plane(x - 0.4, -0.4, x + 0.4, 0.4, height + slope * x));
+    }
+    return planes;
+  };
+  for (const bool prior : {true, false}) {
+    SurfaceMapOptions options;
+    if (!prior) options.tilt_error_deg = options.height_error = 0;
+    SurfaceMap map(options);
+    std::vector<HorizontalPlane> level = scene(0);
+    map.update(level, 0.1, sensor);
+    std::vector<HorizontalPlane> tilted = scene(tilt);
+    ASSERT_GT(std::fabs(tilted[0].height - level[0].height), options.max_height_change);
+    map.update(tilted, 0.2, sensor);
+    for (std::size_t k = 1; k < 3; ++k) EXPECT_EQ(tilted[k].id, level[k].id) << "near " << k;
+    for (std::size_t k : {std::size_t{0}, std::size_t{3}}) {
+      if (prior) {
+        EXPECT_EQ(tilted[k].id, level[k].id) << "far " << k;
+      } else {
+        EXPECT_NE(tilted[k].id, level[k].id) << "far " << k;
+      }
+    }
+    if (prior) {
+      EXPECT_EQ(map.size(), 4u);
+    }
+  }
+}
+
 // Surfaces at other heights are other entries even where they overlap in xy (a shelf above a
 // table), and a height within max_height_change of an entry is that entry (a pose's error).
 TEST(SurfaceMap, HeightSeparatesSurfacesAndItsNoiseDoesNot) {
@@ -322,6 +385,12 @@ TEST(SurfaceMap, BadOptionsAreRefusedByName) {
       std::invalid_argument);
   options = SurfaceMapOptions();
   options.emptied_share = 1.5;
+  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
+  options = SurfaceMapOptions();
+  options.tilt_error_deg = -1;
+  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
+  options = SurfaceMapOptions();
+  options.height_error = std::nan("");
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
 }
 

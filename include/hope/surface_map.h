@@ -8,9 +8,11 @@
 // its id and extent and takes them back when seen again, however much later, unless the
 // space where it was is seen empty (the sensor's rays to a surface below pass through it):
 // then it is removed, with an event. Two entries that one observation shows to be one surface
-// merge into the older. Memory and time are bounded: at most max_entries entries (the one
-// seen longest ago goes first), and a frame costs what its planes and the entries they touch
-// cost, not what the map has accumulated elsewhere.
+// merge into the one seen in more frames. Heights are compared in the map's frame: the
+// frame's own height error, measured by the surfaces seen again, is taken off first. Memory and
+// time are bounded: at most max_entries entries (the one seen longest ago goes first), and a frame
+// costs what its planes and the entries they touch cost, not what the map has accumulated
+// elsewhere.
 #pragma once
 
 #include <cstddef>
@@ -40,6 +42,12 @@ struct SurfaceMapOptions {
   // of its height, metres: a book lying in the hole it leaves in a table's extent, 5 cm above
   // it, stays a surface of its own (the extraction's r_z is a good choice).
   double max_extension_height_change = 0.02;
+  // The pose's error, as the prior of the frame's height error the surfaces seen again measure
+  // (surface_map.cpp, heightsInMap): its tilt, degrees (an IMU's or a motion-capture rig's usual
+  // error; a tilt of θ moves a surface d metres from the sensor by d·tan θ in height), and its
+  // height, metres (0: heights are taken as measured).
+  double tilt_error_deg = 1.0;
+  double height_error = 0.025;
   // At most this many entries; beyond it the one seen longest ago is removed (an event).
   std::size_t max_entries = 1000;
   // An entry not seen in a frame whose inner cells (not on its rim) were seen through (rays
@@ -94,8 +102,11 @@ class SurfaceMap {
     double height() const { return height_sum / weight; }
   };
   void absorb(Entry& into, Entry& from);
-  void observe(Entry& entry, const HorizontalPlane& plane, const std::vector<std::uint64_t>& cells,
-               double stamp);
+  void observe(Entry& entry, const HorizontalPlane& plane, double height,
+               const std::vector<std::uint64_t>& cells, double stamp);
+  std::vector<double> heightsInMap(const std::vector<HorizontalPlane>& planes,
+                                   const std::vector<std::vector<std::uint64_t>>& plane_cells,
+                                   const std::optional<Eigen::Vector3d>& viewpoint) const;
 
   SurfaceMapOptions options_;
   std::vector<Entry> entries_;

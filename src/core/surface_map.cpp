@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Cholesky>
+
 #include "hope/convex_hull.h"
 #include "hope/grid_cell_key.h"
 #include "hope/plane_outline.h"
@@ -30,6 +32,11 @@ void validate(const SurfaceMapOptions& options) {
               " is out of range [0, 1]");
   require(options.max_entries >= 1 && options.max_entries <= 1000000,
           "max_entries = " + std::to_string(options.max_entries) + " is out of range [1, 1000000]");
+  require(
+      options.tilt_error_deg >= 0 && options.tilt_error_deg <= 45,
+      "tilt_error_deg = " + std::to_string(options.tilt_error_deg) + " is out of range [0, 45]");
+  require(options.height_error >= 0 && options.height_error <= 10,
+          "height_error = " + std::to_string(options.height_error) + " is out of range [0, 10] m");
   require(options.emptied_share > 0 && options.emptied_share <= 1,
           "emptied_share = " + std::to_string(options.emptied_share) + " is out of range (0, 1]");
 }
@@ -115,9 +122,22 @@ std::vector<std::uint64_t> cellsOf(const HorizontalPlane& plane, double cell,
   return cells.empty() && middle_half ? cellsOf(plane, cell, false) : cells;
 }
 
-bool boxesTouch(std::int64_t ax0, std::int64_t ay0, std::int64_t ax1, std::int64_t ay1,
-                std::int64_t bx0, std::int64_t by0, std::int64_t bx1, std::int64_t by1) {
-  return ax0 <= bx1 + 1 && bx0 <= ax1 + 1 && ay0 <= by1 + 1 && by0 <= ay1 + 1;
+// The box of a set of cells, inclusive.
+struct CellBox {
+  std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+  // It overlaps or touches (8-neighbourhood) the box [bx0, bx1] × [by0, by1].
+  bool touches(std::int64_t bx0, std::int64_t by0, std::int64_t bx1, std::int64_t by1) const {
+    return x0 <= bx1 + 1 && bx0 <= x1 + 1 && y0 <= by1 + 1 && by0 <= y1 + 1;
+  }
+};
+
+CellBox boxOf(const std::vector<std::uint64_t>& cells) {
+  CellBox box;
+  for (std::uint64_t c : cells) {
+    box.x0 = std::min(box.x0, cellX(c)), box.x1 = std::max(box.x1, cellX(c));
+    box.y0 = std::min(box.y0, cellY(c)), box.y1 = std::max(box.y1, cellY(c));
+  }
+  return box;
 }
 
 }  // namespace
@@ -132,13 +152,13 @@ void SurfaceMap::reset(const SurfaceMapOptions& options) {
   entries_.clear();
 }
 
-void SurfaceMap::observe(Entry& entry, const HorizontalPlane& plane,
+void SurfaceMap::observe(Entry& entry, const HorizontalPlane& plane, double height,
                          const std::vector<std::uint64_t>& cells, double stamp) {
   // Weighted by the observed area: a glimpse of a table's corner moves its height less than a
   // full view does.
   const double w = std::max(plane.area, options_.cell * options_.cell);
   entry.weight += w;
-  entry.height_sum += w * plane.height;
+  entry.height_sum += w * height;
   entry.normal_sum += w * plane.normal;
   entry.centroid_sum += w * plane.centroid;
   for (std::uint64_t c : cells) {
@@ -176,6 +196,89 @@ void SurfaceMap::absorb(Entry& into, Entry& from) {
   into.last_seen = std::max(into.last_seen, from.last_seen);
 }
 
+// A pose's error moves every surface of a frame in height: its height error by as much
+// everywhere, its tilt error θ by d·tan θ at a horizontal distance d from the sensor (on
+// kitchen_dev's poses one counter read 6 cm lower 20 s after it was first mapped, beyond
+// max_height_change, and took a new id). The surfaces seen again measure it: each plane most of
+// whose cells an entry holds, within max_height_change of its height, is that entry, and the
+// difference of their heights is the frame's error there, e(x, y) = a + b·(x − x_s) +
+// c·(y − y_s) about the sensor at (x_s, y_s); a plane that two entries hold most of measures
+// nothing. The estimate is the most probable under the pose's error as prior (height_error for
+// a, tan tilt_error_deg for b and c) and each difference known to half
+// max_extension_height_change (r_z / 2, the extraction's height quantum), fitted twice: the
+// second time without the differences the first fit leaves above max_extension_height_change
+// (a book mistaken for the table under it). With no surface seen again, no correction.
+std::vector<double> SurfaceMap::heightsInMap(
+    const std::vector<HorizontalPlane>& planes,
+    const std::vector<std::vector<std::uint64_t>>& plane_cells,
+    const std::optional<Eigen::Vector3d>& viewpoint) const {
+  std::vector<double> heights(planes.size());
+  for (std::size_t k = 0; k < planes.size(); ++k) heights[k] = planes[k].height;
+  if (!(options_.height_error > 0) && !(options_.tilt_error_deg > 0)) return heights;
+  constexpr double kMostOfItsCells = 0.5;
+  Eigen::Vector2d sensor = Eigen::Vector2d::Zero();
+  if (viewpoint) {
+    sensor = viewpoint->head<2>();
+  } else if (!planes.empty()) {
+    for (const HorizontalPlane& plane : planes) sensor += plane.centroid.head<2>();
+    sensor /= static_cast<double>(planes.size());
+  }
+  const auto slopes = [&](const HorizontalPlane& plane) {
+    return Eigen::Vector3d(1.0, plane.centroid.x() - sensor.x(), plane.centroid.y() - sensor.y());
+  };
+  struct Difference {
+    Eigen::Vector3d at;
+    double height;
+  };
+  std::vector<Difference> differences;
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    const std::vector<std::uint64_t>& cells = plane_cells[k];
+    if (cells.empty()) continue;
+    const CellBox box = boxOf(cells);
+    double difference = 0;
+    int holders = 0;
+    for (const Entry& entry : entries_) {
+      const double gap = planes[k].height - entry.height();
+      if (std::fabs(gap) > options_.max_height_change ||
+          !box.touches(entry.x0, entry.y0, entry.x1, entry.y1)) {
+        continue;
+      }
+      std::size_t common = 0;
+      for (std::uint64_t c : cells) common += entry.cells.count(c);
+      if (static_cast<double>(common) >= kMostOfItsCells * static_cast<double>(cells.size())) {
+        ++holders;
+        difference = gap;
+      }
+    }
+    // A plane two entries hold most of (a step blended with the one below it) measures nothing.
+    if (holders == 1) differences.push_back({slopes(planes[k]), difference});
+  }
+  if (differences.empty()) return heights;
+  const double sigma = options_.max_extension_height_change / 2;
+  const double tilt = std::tan(options_.tilt_error_deg * M_PI / 180.0);
+  const Eigen::Vector3d prior(options_.height_error, tilt, tilt);
+  Eigen::Vector3d error = Eigen::Vector3d::Zero();
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < 3; ++i) {
+      // A zero prior holds that part of the error at zero.
+      normal(i, i) = prior(i) > 0 ? 1.0 / (prior(i) * prior(i)) : 1e12 / (sigma * sigma);
+    }
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (const Difference& d : differences) {
+      if (pass == 1 &&
+          std::fabs(d.height - d.at.dot(error)) > options_.max_extension_height_change) {
+        continue;
+      }
+      normal += d.at * d.at.transpose() / (sigma * sigma);
+      rhs += d.at * d.height / (sigma * sigma);
+    }
+    error = normal.ldlt().solve(rhs);
+  }
+  for (std::size_t k = 0; k < planes.size(); ++k) heights[k] -= slopes(planes[k]).dot(error);
+  return heights;
+}
+
 std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes, double stamp,
                                            const std::optional<Eigen::Vector3d>& viewpoint) {
   std::vector<TrackEvent> events;
@@ -186,11 +289,15 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return planes[a].area > planes[b].area; });
   std::vector<std::vector<std::uint64_t>> plane_cells(planes.size());
+  for (std::size_t k = 0; k < planes.size(); ++k) plane_cells[k] = cellsOf(planes[k], cell);
+  // Each plane's height in the map's frame: as measured, less the frame's height error that
+  // the surfaces seen again show (see heightErrors).
+  const std::vector<double> map_height = heightsInMap(planes, plane_cells, viewpoint);
   std::vector<std::uint8_t> seen(entries_.size(), 0);
   for (std::size_t k : order) {
     HorizontalPlane& plane = planes[k];
-    std::vector<std::uint64_t>& cells = plane_cells[k];
-    cells = cellsOf(plane, cell);
+    const std::vector<std::uint64_t>& cells = plane_cells[k];
+    const double height = map_height[k];
     if (cells.empty()) {
       // No outline, no hull, or out of range: the plane keeps a fresh id the map does not hold.
       plane.id = next_id_++;
@@ -199,11 +306,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       events.push_back({TrackEvent::Kind::kNew, plane.id});
       continue;
     }
-    std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-    for (std::uint64_t c : cells) {
-      x0 = std::min(x0, cellX(c)), x1 = std::max(x1, cellX(c));
-      y0 = std::min(y0, cellY(c)), y1 = std::max(y1, cellY(c));
-    }
+    const CellBox box = boxOf(cells);
     // The entries at this height whose cells overlap or touch the plane's (8-neighbourhood).
     std::vector<std::size_t> matches;
     std::vector<std::uint8_t> overlapping(entries_.size(), 0);
@@ -211,15 +314,15 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
     for (std::size_t e = 0; e < entries_.size(); ++e) {
       const Entry& entry = entries_[e];
       if (entry.weight == 0 ||  // merged into another this frame
-          std::fabs(entry.height() - plane.height) > options_.max_height_change ||
-          !boxesTouch(x0, y0, x1, y1, entry.x0, entry.y0, entry.x1, entry.y1)) {
+          std::fabs(entry.height() - height) > options_.max_height_change ||
+          !box.touches(entry.x0, entry.y0, entry.x1, entry.y1)) {
         continue;
       }
       // Seen again where it was seen before: within max_height_change (a pose's error). Only
       // beside it (a new part of it coming into view): within max_extension_height_change, so
       // that a book lying in the hole it makes in a table's extent stays a surface of its own.
       const bool extension_height =
-          std::fabs(entry.height() - plane.height) <= options_.max_extension_height_change;
+          std::fabs(entry.height() - height) <= options_.max_extension_height_change;
       std::size_t common = 0;
       bool touches = false;
       for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -247,7 +350,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       Entry entry;
       entry.id = next_id_++;
       entry.first_seen = stamp;
-      observe(entry, plane, cells, stamp);
+      observe(entry, plane, height, cells, stamp);
       entries_.push_back(std::move(entry));
       seen.push_back(1);
       events.push_back({TrackEvent::Kind::kNew, entries_.back().id});
@@ -267,7 +370,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
     // observation): nearest height 75.6 %, most cells 80.4 %, this 79.9 %; the synthetic
     // sequences' paper's accuracy: 99.39 %, 99.04 %, 99.50 % (scripts/map_kitchen.sh,
     // scripts/evaluate_tracking.sh).
-    auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - plane.height); };
+    auto height_gap = [&](std::size_t e) { return std::fabs(entries_[e].height() - height); };
     auto explains = [&](std::size_t e) {
       return static_cast<double>(common_cells[e]) / static_cast<double>(cells.size()) -
              kHeightPenalty * height_gap(e) / options_.max_extension_height_change;
@@ -278,9 +381,11 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
           return overlapping[a] ? explains(a) > explains(b) : height_gap(a) < height_gap(b);
         });
     // The entries it overlaps at that entry's height (within max_extension_height_change) are
-    // one surface with it, which it shows: the oldest of them (ids rise with age) subsumes the
-    // others. Entries it merely touches, or overlaps at another height (a book on the table,
-    // 5 cm up), stay apart.
+    // one surface with it, which it shows: the one seen in the most frames subsumes the others
+    // (the oldest on a tie; ids rise with age), so that the fewest observations change their
+    // id (kitchen_dev: a shelf's two halves mapped apart, 3 and 14 frames each, merged into the
+    // older and 14 of its observations read as a switch). Entries it merely touches, or
+    // overlaps at another height (a book on the table, 5 cm up), stay apart.
     std::vector<std::size_t> group = {primary};
     for (std::size_t e : matches) {
       if (e != primary && overlapping[e] &&
@@ -289,9 +394,13 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
         group.push_back(e);
       }
     }
-    const std::size_t chosen = *std::min_element(
-        group.begin(), group.end(),
-        [&](std::size_t a, std::size_t b) { return entries_[a].id < entries_[b].id; });
+    const std::size_t chosen =
+        *std::min_element(group.begin(), group.end(), [&](std::size_t a, std::size_t b) {
+          if (entries_[a].frames != entries_[b].frames) {
+            return entries_[a].frames > entries_[b].frames;
+          }
+          return entries_[a].id < entries_[b].id;
+        });
     Entry& target = entries_[chosen];
     for (std::size_t e : group) {
       if (e == chosen) continue;
@@ -299,7 +408,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       events.push_back({TrackEvent::Kind::kMerged, entries_[e].id, target.id});
       entries_[e].weight = 0;  // removed below
     }
-    observe(target, plane, cells, stamp);
+    observe(target, plane, height, cells, stamp);
     seen[chosen] = 1;
     plane.id = target.id;
     plane.age = target.frames;

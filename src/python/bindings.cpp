@@ -950,20 +950,25 @@ PYBIND11_MODULE(_hope, m) {
       "One id per surface for as long as the map lives, extents grown over frames: for planes in a "
       "fixed frame (a pose per frame). See include/hope/surface_map.h")
       .def(py::init([](double cell, double max_height_change, double max_extension_height_change,
-                       std::size_t max_entries, double emptied_share) {
+                       std::size_t max_entries, double emptied_share, double tilt_error_deg,
+                       double height_error) {
              hope::SurfaceMapOptions o;
              o.cell = cell;
              o.max_height_change = max_height_change;
              o.max_extension_height_change = max_extension_height_change;
              o.max_entries = max_entries;
              o.emptied_share = emptied_share;
+             o.tilt_error_deg = tilt_error_deg;
+             o.height_error = height_error;
              return hope::SurfaceMap(o);  // validates: ValueError naming the option
            }),
            py::arg("cell") = map_defaults.cell,
            py::arg("max_height_change") = map_defaults.max_height_change,
            py::arg("max_extension_height_change") = map_defaults.max_extension_height_change,
            py::arg("max_entries") = map_defaults.max_entries,
-           py::arg("emptied_share") = map_defaults.emptied_share)
+           py::arg("emptied_share") = map_defaults.emptied_share,
+           py::arg("tilt_error_deg") = map_defaults.tilt_error_deg,
+           py::arg("height_error") = map_defaults.height_error)
       .def(
           "update",
           [](hope::SurfaceMap& map, ExtractionResult& r, double stamp,

@@ -258,6 +258,9 @@ class DemoRoom(unittest.TestCase):
             self.assertTrue(surface.outline)
         with self.assertRaisesRegex(ValueError, "cell"):
             hope.SurfaceMap(cell=0.0)
+        with self.assertRaisesRegex(ValueError, "tilt_error_deg"):
+            hope.SurfaceMap(tilt_error_deg=-1.0)
+        hope.SurfaceMap(tilt_error_deg=0.0, height_error=0.0)  # heights as measured: accepted
 
     def test_tracker_takes_a_list_of_planes(self):
         tracker = hope.PlaneTracker()

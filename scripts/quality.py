@@ -49,14 +49,9 @@ SKIPPED = 'skipped'
 SEQUENCES = {'kitchen': 'kitchen_dev', 'studyroom': 'studyroom_dev'}
 
 
-# The limits below are for a hang, set at some 20 times a release build's time; a slow machine
-# or an instrumented build (20 to 30 times slower) scales them with QUALITY_TIMEOUT_SCALE.
-TIMEOUT_SCALE = float(os.environ.get('QUALITY_TIMEOUT_SCALE') or 1)
-
-
 def run(cmd, timeout=600):
     """Runs cmd; its stdout, or an exception that says what failed."""
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout * TIMEOUT_SCALE)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     if r.returncode != 0:
         raise RuntimeError(f'{" ".join(cmd)} exited {r.returncode}: {r.stderr.strip()[-400:]}')
     return r.stdout

@@ -223,7 +223,8 @@ std::vector<double> SurfaceMap::heightsInMap(
     for (const HorizontalPlane& plane : planes) sensor += plane.centroid.head<2>();
     sensor /= static_cast<double>(planes.size());
   }
-  const auto slopes = [&](const HorizontalPlane& plane) {
+  // A difference's row in the fit: 1, Δx, Δy.
+  const auto fitRow = [&](const HorizontalPlane& plane) {
     return Eigen::Vector3d(1.0, plane.centroid.x() - sensor.x(), plane.centroid.y() - sensor.y());
   };
   struct Difference {
@@ -251,7 +252,7 @@ std::vector<double> SurfaceMap::heightsInMap(
       }
     }
     // A plane two entries hold most of (a step blended with the one below it) measures nothing.
-    if (holders == 1) differences.push_back({slopes(planes[k]), difference});
+    if (holders == 1) differences.push_back({fitRow(planes[k]), difference});
   }
   if (differences.empty()) return heights;
   const double sigma = options_.max_extension_height_change / 2;
@@ -275,7 +276,7 @@ std::vector<double> SurfaceMap::heightsInMap(
     }
     error = normal.ldlt().solve(rhs);
   }
-  for (std::size_t k = 0; k < planes.size(); ++k) heights[k] -= slopes(planes[k]).dot(error);
+  for (std::size_t k = 0; k < planes.size(); ++k) heights[k] -= fitRow(planes[k]).dot(error);
   return heights;
 }
 

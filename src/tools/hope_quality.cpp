@@ -529,7 +529,7 @@ int run(const ParsedArgs& args) {
   }
   // The staircases (210 renderings, 31 s of the synthetic figures' 35) and the cabinet room (48
   // extractions) are parts of their own: quality.py runs them as jobs beside the rest, and a
-  // timeout names the part that ran long (under ASan, the staircases; sanitize.sh scales limits).
+  // timeout names the part that ran long.
   if (part == "all" || part == "stairs") staircaseFigures(args.flag("--verbose"));
   if (part == "all" || part == "cabinet") cabinetRoomFigures(args.flag("--verbose"));
   if (part == "all" || part == "tables") tableFigures(data_dir);

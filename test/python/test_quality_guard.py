@@ -21,11 +21,9 @@ def guard(*args, floors=None, data=None):
     if data is not None:
         env['HOPE_SHARED_DATA'] = data
     # The synthetic parts (demo room, pattern, streets; 210 staircase renderings; the cabinet room)
-    # take about 35 s here on two cores; the limit is for a hang. A slow machine or an
-    # instrumented build scales it (QUALITY_TIMEOUT_SCALE).
-    scale = float(os.environ.get('QUALITY_TIMEOUT_SCALE') or 1)
+    # take about 35 s here on two cores; the limit is for a hang.
     r = subprocess.run([sys.executable, GUARD, *args], capture_output=True, text=True, env=env,
-                       timeout=1800 * scale)
+                       timeout=1800)
     return r.returncode, r.stdout, r.stderr
 
 

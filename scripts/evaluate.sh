@@ -31,6 +31,8 @@ if [ -d "$data/mosd_dev" ] && [ -f ../shared/tools/objects_score.py ]; then
     cat docs/objects_mosd.txt
     echo '```'
     echo
+    echo "The pictures: \`bash scripts/object_pictures.sh\` (objects boxed, placements green)."
+    echo
     echo "| mOSD test57 | mOSD test45 | mOSD learn34 |"
     echo "|---|---|---|"
     echo "| ![test57](objects_test57.png) | ![test45](objects_test45.png) | ![learn34](objects_learn34.png) |"

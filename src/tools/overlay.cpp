@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
@@ -27,19 +28,60 @@ std::string planeText(const HorizontalPlane& plane) {
   return text;
 }
 
-// White text with a dark outline, readable on any background, centred on `at`.
-void drawLabel(cv::Mat& image, const std::string& text, cv::Point at, double scale) {
+// A label: white text with a dark outline, readable on any background.
+struct Label {
+  std::string text;
+  double scale;
+  int thickness() const { return std::max(1, static_cast<int>(std::lround(scale * 1.5))); }
+  // The text's box with its outline and a pixel to spare on each side.
+  cv::Size box() const {
+    int baseline = 0;
+    const cv::Size size =
+        cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness(), &baseline);
+    const int spare = thickness() + 2;
+    return cv::Size(size.width + 2 * spare, size.height + 2 * spare);
+  }
+};
+
+// Writes `label` in `place` (a rectangle of its box()).
+void drawLabel(cv::Mat& image, const Label& label, const cv::Rect& place) {
   int baseline = 0;
-  const int thickness = std::max(1, static_cast<int>(std::lround(scale * 1.5)));
-  const cv::Size size =
-      cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
-  cv::Point origin(at.x - size.width / 2, at.y + size.height / 2);
-  origin.x = std::clamp(origin.x, 2, std::max(2, image.cols - size.width - 2));
-  origin.y = std::clamp(origin.y, size.height + 2, std::max(size.height + 2, image.rows - 2));
-  cv::putText(image, text, origin, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0),
-              thickness + 2, cv::LINE_AA);
-  cv::putText(image, text, origin, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(255, 255, 255),
-              thickness, cv::LINE_AA);
+  const cv::Size size = cv::getTextSize(label.text, cv::FONT_HERSHEY_SIMPLEX, label.scale,
+                                        label.thickness(), &baseline);
+  const cv::Point origin(place.x + (place.width - size.width) / 2,
+                         place.y + (place.height + size.height) / 2);
+  cv::putText(image, label.text, origin, cv::FONT_HERSHEY_SIMPLEX, label.scale, cv::Scalar(0, 0, 0),
+              label.thickness() + 2, cv::LINE_AA);
+  cv::putText(image, label.text, origin, cv::FONT_HERSHEY_SIMPLEX, label.scale,
+              cv::Scalar(255, 255, 255), label.thickness(), cv::LINE_AA);
+}
+
+// Places for a plane's label, best first: its pixels' centre, then steps of a label's height
+// above and below it and of half its width beside it (a plane's pixels surround its centre,
+// so a label moved a little still names the plane it is on).
+std::vector<cv::Point> planeLabelPlaces(cv::Point centre, cv::Size box) {
+  std::vector<cv::Point> places{centre};
+  for (int step = 1; step <= 3; ++step) {
+    for (const cv::Point& offset :
+         {cv::Point(0, step * box.height), cv::Point(0, -step * box.height),
+          cv::Point(step * box.width / 2, 0), cv::Point(-step * box.width / 2, 0)}) {
+      places.push_back(centre + offset);
+    }
+  }
+  return places;
+}
+
+// Places for an object's tag, best first: centred over its box, over its left or right end,
+// inside its top corners, centred under it, inside its bottom corners.
+std::vector<cv::Point> objectTagPlaces(const cv::Rect& object, cv::Size box) {
+  const int left = object.x + box.width / 2, right = object.x + object.width - box.width / 2;
+  const int middle = object.x + object.width / 2;
+  const int over = object.y - box.height / 2, under = object.y + object.height + box.height / 2;
+  const int inside_top = object.y + box.height / 2 + 2;
+  const int inside_bottom = object.y + object.height - box.height / 2 - 2;
+  return {cv::Point(middle, over),        cv::Point(left, over),          cv::Point(right, over),
+          cv::Point(left, inside_top),    cv::Point(right, inside_top),   cv::Point(middle, under),
+          cv::Point(left, inside_bottom), cv::Point(right, inside_bottom)};
 }
 
 cv::Vec3b tint(const cv::Vec3b& base, const cv::Vec3b& color) {
@@ -118,18 +160,29 @@ cv::Mat imageOverlay(const InputCloud& cloud, const AlignedPoints& aligned, cons
   }
   const double scale = std::max(0.4, w / 1100.0);
   for (std::size_t o = 0; o < object_box.size(); ++o) {
-    if (!object_seen[o]) continue;
-    cv::rectangle(image, object_box[o], kObjectColour, 2, cv::LINE_AA);
-    drawLabel(image, "o" + std::to_string(o),
-              cv::Point(object_box[o].x + object_box[o].width / 2, object_box[o].y - 8),
-              scale * 0.8);
+    if (object_seen[o]) cv::rectangle(image, object_box[o], kObjectColour, 2, cv::LINE_AA);
   }
+  // The planes' labels first (they name the larger things), then the objects' tags, each where
+  // it covers no label written before it.
+  std::vector<Label> labels;
+  std::vector<LabelRequest> requests;
   for (std::size_t k = 0; k < result.planes.size(); ++k) {
     if (pixel_count[k] == 0) continue;
     const Eigen::Vector2d at = pixel_sum[k] / static_cast<double>(pixel_count[k]);
-    drawLabel(image, planeText(result.planes[k]),
-              cv::Point(static_cast<int>(at.x()), static_cast<int>(at.y())), scale);
+    labels.push_back({planeText(result.planes[k]), scale});
+    const cv::Size box = labels.back().box();
+    requests.push_back(
+        {box,
+         planeLabelPlaces(cv::Point(static_cast<int>(at.x()), static_cast<int>(at.y())), box)});
   }
+  for (std::size_t o = 0; o < object_box.size(); ++o) {
+    if (!object_seen[o]) continue;
+    labels.push_back({"o" + std::to_string(o), scale * 0.8});
+    const cv::Size box = labels.back().box();
+    requests.push_back({box, objectTagPlaces(object_box[o], box)});
+  }
+  const std::vector<cv::Rect> places = layoutLabels(image.size(), requests);
+  for (std::size_t k = 0; k < labels.size(); ++k) drawLabel(image, labels[k], places[k]);
   return image;
 }
 
@@ -177,8 +230,16 @@ cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result,
       for (const auto& v : ring) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
       cv::polylines(image, polygon, true, cv::Scalar(c[0], c[1], c[2]), 2, cv::LINE_AA);
     }
-    drawLabel(image, planeText(plane),
-              toPixel(plane.centroid.x() - o.x(), plane.centroid.y() - o.y()), 0.6);
+  }
+  // The planes' labels where none covers another (written last, over the outlines).
+  std::vector<Label> labels;
+  std::vector<LabelRequest> requests;
+  for (const HorizontalPlane& plane : result.planes) {
+    labels.push_back({planeText(plane), 0.6});
+    const cv::Size box = labels.back().box();
+    requests.push_back(
+        {box,
+         planeLabelPlaces(toPixel(plane.centroid.x() - o.x(), plane.centroid.y() - o.y()), box)});
   }
   for (const StandingObject& object : result.objects) {
     std::vector<cv::Point> polygon;
@@ -198,10 +259,39 @@ cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result,
                        cv::Scalar(kPlacementColour[0], kPlacementColour[1], kPlacementColour[2]),
                        cv::LINE_AA);
   }
+  const std::vector<cv::Rect> places = layoutLabels(image.size(), requests);
+  for (std::size_t k = 0; k < labels.size(); ++k) drawLabel(image, labels[k], places[k]);
   return image;
 }
 
 }  // namespace
+
+std::vector<cv::Rect> layoutLabels(const cv::Size& image, const std::vector<LabelRequest>& labels) {
+  std::vector<cv::Rect> placed;
+  placed.reserve(labels.size());
+  for (const LabelRequest& label : labels) {
+    // A place's rectangle, moved inside the image where the image is large enough for it.
+    const auto rectAt = [&](const cv::Point& centre) {
+      cv::Rect r(centre.x - label.size.width / 2, centre.y - label.size.height / 2,
+                 label.size.width, label.size.height);
+      r.x = std::clamp(r.x, 0, std::max(0, image.width - r.width));
+      r.y = std::clamp(r.y, 0, std::max(0, image.height - r.height));
+      return r;
+    };
+    cv::Rect best;
+    long best_overlap = -1;
+    for (const cv::Point& centre : label.places) {
+      const cv::Rect r = rectAt(centre);
+      long overlap = 0;
+      for (const cv::Rect& other : placed) overlap += (r & other).area();
+      if (best_overlap < 0 || overlap < best_overlap) best = r, best_overlap = overlap;
+      if (overlap == 0) break;
+    }
+    if (best_overlap < 0) best = rectAt(cv::Point(image.width / 2, image.height / 2));
+    placed.push_back(best);
+  }
+  return placed;
+}
 
 cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, const Result& result,
                       const std::vector<Placement>& placements, const Footprint& footprint) {

@@ -27,6 +27,19 @@ cv::Mat renderOverlay(const InputCloud& cloud, const AlignedPoints& aligned, con
                       const std::vector<Placement>& placements = {},
                       const Footprint& footprint = Footprint());
 
+// A label to write on a picture: its text's box and the places it may go (the box's centre),
+// best first.
+struct LabelRequest {
+  cv::Size size;
+  std::vector<cv::Point> places;
+};
+
+// Where each label goes, as the rectangle its box covers, in the order given: the first of
+// its places (its box moved inside the image) that covers no label placed before it, or, with
+// none free, the one that covers the least of them (a crowded picture still names everything).
+// A label with no places goes to the image's centre.
+std::vector<cv::Rect> layoutLabels(const cv::Size& image, const std::vector<LabelRequest>& labels);
+
 // A top-down view of `points` over [x0, x1] × [y0, y1] on a `size`-pixel square, each point
 // coloured by its label (VOC colour label + 1; label -1 grey, shaded by height).
 cv::Mat renderLabelsTopDown(const std::vector<Eigen::Vector3f>& points,

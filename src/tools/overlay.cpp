@@ -241,10 +241,17 @@ cv::Mat topDownOverlay(const AlignedPoints& aligned, const Result& result,
         {box,
          planeLabelPlaces(toPixel(plane.centroid.x() - o.x(), plane.centroid.y() - o.y()), box)});
   }
-  for (const StandingObject& object : result.objects) {
+  // Each object's footprint outlined and tagged as in the image overlay (oN, N its index).
+  for (std::size_t k = 0; k < result.objects.size(); ++k) {
     std::vector<cv::Point> polygon;
-    for (const auto& v : object.footprint) polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
+    for (const auto& v : result.objects[k].footprint) {
+      polygon.push_back(toPixel(v.x() - o.x(), v.y() - o.y()));
+    }
+    if (polygon.empty()) continue;
     cv::polylines(image, polygon, true, kObjectColour, 2, cv::LINE_AA);
+    labels.push_back({"o" + std::to_string(result.objects[k].index), 0.5});
+    const cv::Size box = labels.back().box();
+    requests.push_back({box, objectTagPlaces(cv::boundingRect(polygon), box)});
   }
   for (const Placement& p : placements) {
     const double c = std::cos(p.yaw), s = std::sin(p.yaw);

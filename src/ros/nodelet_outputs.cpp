@@ -114,6 +114,10 @@ void PlaneExtractorNodelet::answerSegments(const hope::Frame& frame,
   bool answered = false;
   for (PendingSegment* pending : segments_) {
     if (pending->done) continue;
+    // The stream started over since the request (a looping bag, a reset clock: the pipeline
+    // saw the stamp go back): this cloud came after the request whatever its stamp, and one
+    // stamped after the request may never come (a bag that ends before it loops back).
+    if (frame.time_jump) pending->after = std::min(pending->after, header.stamp);
     if (header.stamp < pending->after) {
       ++pending->earlier;
       pending->latest_earlier = header.stamp;

@@ -86,16 +86,24 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
       ((highest - lowest) / finest_patch).maxCoeff() >= kFieldLimit - 1) {
     return unchanged();
   }
-  // Each object point's patch, then the distinct patches in key order.
+  // Each object point's patch, then the distinct patches in key order. The patches' sides lie a
+  // thousandth of a patch below multiples of a patch from the lowest corner (1 on top: the
+  // field's margin): a cloud sampled on a lattice from there (a simulator's, a mesh's) has
+  // samples on the sides, where float rounding would put a row either way and could leave a
+  // layer of patches empty between two faces of one thing (a box's top cut off its sides).
+  // The z layers start at the lowest point, the surface things stand on: a layer across it
+  // would hold a sliver of every thing's foot (on mosd_dev, starting the layers half a patch
+  // lower took the weighted overlap from 0.959 to 0.949).
+  constexpr float kLatticeNudge = 1.001f;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   for (std::size_t i = 0; i < object_of_point.size(); ++i) {
     if (object_of_point[i] < 0) continue;
     const Eigen::Vector3f q =
         (points[i] - lowest) / static_cast<float>(patchOf(object_of_point[i]));
     keyed.emplace_back((static_cast<std::uint64_t>(object_of_point[i]) << 48) |
-                           (static_cast<std::uint64_t>(q.x() + 1) << 32) |
-                           (static_cast<std::uint64_t>(q.y() + 1) << 16) |
-                           static_cast<std::uint64_t>(q.z() + 1),
+                           (static_cast<std::uint64_t>(q.x() + kLatticeNudge) << 32) |
+                           (static_cast<std::uint64_t>(q.y() + kLatticeNudge) << 16) |
+                           static_cast<std::uint64_t>(q.z() + kLatticeNudge),
                        static_cast<std::uint32_t>(i));
   }
   sortByKey(keyed);

@@ -605,16 +605,24 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     if (point_labels[i] >= 0 && !raised[point_labels[i]]) {
       const int s = support_of_plane[point_labels[i]];
       const Eigen::Vector3f q = points[i];
-      if (eye && s >= 0 && carrying[s] && q.allFinite()) {
-        const double above = above_fitted[static_cast<std::size_t>(s)](q);
-        if (above > 0 && above > noiseAt(q).vertical) {
+      if (s < 0 || !carrying[s] || !q.allFinite()) continue;
+      const double above = above_fitted[static_cast<std::size_t>(s)](q);
+      const double vertical_noise = noiseAt(q).vertical;
+      // The plane's voxels are r_z tall, and a surface across two layers of them holds points
+      // up to 2 r_z above it: higher than the plane's noise (as every other point is judged
+      // below), such a point is a thing's, not the plane's (the top of a box lying flat, too
+      // small to be a plane of its own). It joins the object it touches but seeds none (a
+      // floor's warp far away rises as high). Lower, but above three σ, it is a foot.
+      if (!(above > std::max(margin, vertical_noise))) {
+        if (eye && above > 0 && above > vertical_noise) {
           feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s)});
         }
+        continue;
       }
-      continue;
     }
     const Eigen::Vector3f q = points[i];
     if (!q.allFinite()) continue;
+    const bool in_plane_voxels = point_labels[i] >= 0 && !raised[point_labels[i]];
     int beside = -1;  // the highest plane the point is beside, at object height
     int over = -1;    // the plane whose area it stands over
     int under_top = -1;
@@ -671,8 +679,9 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       continue;
     }
     candidates.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s),
-                          levelOf(static_cast<std::size_t>(s), 2 * sigma), over >= 0,
-                          static_cast<std::int16_t>(under_top), static_cast<float>(sigma)});
+                          levelOf(static_cast<std::size_t>(s), 2 * sigma),
+                          over >= 0 && !in_plane_voxels, static_cast<std::int16_t>(under_top),
+                          static_cast<float>(sigma)});
   }
 
   // Cells that touch (26-neighbourhood) on the same plane are one object, level by level.

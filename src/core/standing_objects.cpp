@@ -602,38 +602,36 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     return at;
   };
   for (std::size_t i = 0; i < points.size(); ++i) {
-    if (point_labels[i] >= 0 && !raised[point_labels[i]]) {
-      const int s = support_of_plane[point_labels[i]];
-      const Eigen::Vector3f q = points[i];
-      if (s < 0 || !carrying[s] || !q.allFinite()) continue;
-      const double above = above_fitted[static_cast<std::size_t>(s)](q);
-      const double vertical_noise = noiseAt(q).vertical;
-      // The plane's voxels are r_z tall, and a surface across two layers of them holds points
-      // up to 2 r_z above it: higher than the plane's noise (as every other point is judged
-      // below), such a point is a thing's, not the plane's (the top of a box lying flat, too
-      // small to be a plane of its own). It joins the object it touches but seeds none (a
-      // floor's warp far away rises as high). Lower, but above three σ, it is a foot.
-      if (!(above > std::max(margin, vertical_noise))) {
-        if (eye && above > 0 && above > vertical_noise) {
-          feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s)});
-        }
-        continue;
-      }
-    }
     const Eigen::Vector3f q = points[i];
     if (!q.allFinite()) continue;
-    const bool in_plane_voxels = point_labels[i] >= 0 && !raised[point_labels[i]];
-    int beside = -1;  // the highest plane the point is beside, at object height
-    int over = -1;    // the plane whose area it stands over
-    int under_top = -1;
-    bool on_plane = false;  // within the noise of a plane over whose area it lies
     // Above a plane by more than its noise: half a vertical cell, or three standard deviations
     // of the sensor's range noise at the point, seen vertically (a far floor's own samples
     // scatter farther above it than r_z / 2).
     const NoiseAt at = noiseAt(q);
     const double sigma = at.sigma, vertical_noise = at.vertical;
     const double noise_margin = std::max(margin, vertical_noise);
-    int foot_of = -1;  // the plane it is a foot over
+    const bool in_plane_voxels = point_labels[i] >= 0 && !raised[point_labels[i]];
+    if (in_plane_voxels) {
+      const int s = support_of_plane[point_labels[i]];
+      if (s < 0 || !carrying[s]) continue;
+      const double above = above_fitted[static_cast<std::size_t>(s)](q);
+      // The plane's voxels are r_z tall, and a surface across two layers of them holds points
+      // up to 2 r_z above it: higher than the plane's noise (as every other point is judged
+      // below), such a point is a thing's, not the plane's (the top of a box lying flat, too
+      // small to be a plane of its own). It joins the object it touches but seeds none (a
+      // floor's warp far away rises as high). Lower, but above three σ, it is a foot.
+      if (!(above > noise_margin)) {
+        if (eye && above > 0 && above > vertical_noise) {
+          feet.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(s)});
+        }
+        continue;
+      }
+    }
+    int beside = -1;  // the highest plane the point is beside, at object height
+    int over = -1;    // the plane whose area it stands over
+    int under_top = -1;
+    bool on_plane = false;  // within the noise of a plane over whose area it lies
+    int foot_of = -1;       // the plane it is a foot over
     // A raised plane's own points (within its noise: higher ones stand on it) stand, whole, on
     // the plane it stands on.
     const int own = point_labels[i] >= 0 ? support_of_plane[point_labels[i]] : -1;

@@ -17,8 +17,9 @@ enum class TrackingMode {
   kPaper,
   // Gated, optimal one-to-one assignment on physical costs after removing the scene's
   // apparent motion (a turn and a shift estimated from a first pass, made both as the planes
-  // are and after the last frame's motion), with memory of lost
-  // planes and explicit merge / split handling. The default.
+  // are and after the last frame's motion, or searched within what a sensor can do between
+  // the frames' stamps: 45°/s, 0.75 m/s), with memory of lost planes and explicit merge /
+  // split handling. The default.
   kImproved,
 };
 
@@ -79,7 +80,8 @@ class PlaneTracker {
 
   // Gives each plane of a new frame its persistent id, age and last_seen (in place) and
   // returns what happened to ids. Ids start at 0 in extraction order on the first frame and
-  // are never reused. `stamp` is the frame time in seconds.
+  // are never reused. `stamp` is the frame time in seconds (the motion search reaches as far as a
+  // sensor moves in the time since the last frame, from 1/30 s to 0.5 s).
   std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp);
 
   // Forgets all planes and the scene's last motion; the next frame starts ids from where they

@@ -234,6 +234,128 @@ std::vector<CandidatePair> candidatePairs(const std::vector<Track>& tracks,
   return pairs;
 }
 
+// How far a sensor carried by a person or a robot moves between two frames at most: it turns
+// up to 45°/s, moves up to 0.75 m/s and climbs up to 0.25 m/s (a walking person's hand or
+// head, a mobile base). Frames count at least a video frame apart and at most half a second
+// (beyond that, the search would grow past its use; the measured motions still apply).
+constexpr double kMaxTurnRate = 45.0 * M_PI / 180.0;                     // rad/s
+constexpr double kMaxSpeed = 0.75;                                       // m/s
+constexpr double kMaxClimbRate = 0.25;                                   // m/s
+constexpr double kMinFrameSpacing = 1.0 / 30.0, kMaxFrameSpacing = 0.5;  // s
+
+// The scene's motion over a frame `spacing` seconds long, searched on a grid of turns and
+// shifts within what a sensor can move in that time: the motions measured from pairs made as
+// the planes are, or after the last frame's motion, need those pairs, and a hand-held camera
+// at 3 Hz turning 8° moves a plane 2 m away by 28 cm, past the 9 cm any pair reaches. Each
+// motion is scored by the sum over the planes of the cheapest pairing with a track seen in the
+// last frame (the unpaired cost at most; one to one is the assignment's job, made once for the
+// best). The grid's steps follow the cost's scales: half of xy_scale across, half of
+// height_scale in height, and the turn that moves the tracks' median distance from the
+// origin by the xy step (at least 1 m away); a coarse pass at twice the steps, then the fine
+// steps around its best. Ties keep the smaller motion: no motion is scored first.
+// The scene's motion is the large planes' (as estimateMotion weighs them): the search looks at
+// the kMotionPlanes largest planes and tracks only, so that a frame of a thousand fragments
+// costs no more than one of thirty planes.
+constexpr std::size_t kMotionPlanes = 32;
+
+// The indices of the `most` largest of `planes` (by point count), in any order.
+std::vector<std::size_t> largest(const std::vector<const HorizontalPlane*>& planes,
+                                 std::size_t most) {
+  std::vector<std::size_t> order(planes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  if (order.size() > most) {
+    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(most), order.end(),
+                     [&](std::size_t a, std::size_t b) {
+                       return planes[a]->num_points > planes[b]->num_points;
+                     });
+    order.resize(most);
+  }
+  return order;
+}
+
+template <class Track>
+SceneMotion searchMotion(const std::vector<Track>& tracks,
+                         const std::vector<HorizontalPlane>& planes, const TrackerOptions& o,
+                         double unpaired, double spacing) {
+  std::vector<const HorizontalPlane*> last_seen, now;
+  for (const Track& t : tracks) {
+    if (t.missed == 0) last_seen.push_back(&t.plane);
+  }
+  for (const HorizontalPlane& p : planes) now.push_back(&p);
+  std::vector<const HorizontalPlane*> seen;
+  std::vector<double> distances;
+  for (std::size_t i : largest(last_seen, kMotionPlanes)) {
+    seen.push_back(last_seen[i]);
+    distances.push_back(last_seen[i]->centroid.head<2>().norm());
+  }
+  std::vector<BoxIndex::Box> boxes;
+  std::vector<double> heights;
+  for (std::size_t i : largest(now, kMotionPlanes)) {
+    boxes.push_back(now[i]->bbox);
+    heights.push_back(now[i]->height);
+  }
+  if (seen.empty() || boxes.empty()) return SceneMotion();
+  std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
+  const double radius = std::max(1.0, distances[distances.size() / 2]);
+  if (!(spacing >= kMinFrameSpacing)) spacing = kMinFrameSpacing;  // also NaN
+  spacing = std::min(spacing, kMaxFrameSpacing);
+  const double xy_step = 0.5 * o.xy_scale, z_step = 0.5 * o.height_scale;
+  const double turn_step = xy_step / radius;
+  // A little over the limits, so that rounding does not drop a step that lies on one.
+  const double turn_range = 1.001 * kMaxTurnRate * spacing, xy_range = 1.001 * kMaxSpeed * spacing,
+               z_range = 1.001 * kMaxClimbRate * spacing;
+  std::vector<MovedPlane> moved_tracks(seen.size());
+  const auto score = [&](const SceneMotion& motion) {
+    for (std::size_t t = 0; t < seen.size(); ++t) moved_tracks[t] = movedPlane(*seen[t], motion);
+    double total = 0.0;
+    for (std::size_t p = 0; p < boxes.size(); ++p) {
+      double cheapest = unpaired;
+      for (const MovedPlane& before : moved_tracks) {
+        cheapest = std::min(cheapest, pairingCost(before, boxes[p], heights[p], o));
+      }
+      total += cheapest;
+    }
+    return total;
+  };
+  SceneMotion best;
+  double best_score = score(best);
+  // Every motion centre + k·step for |k| <= reach in each of yaw, x, y, z.
+  const auto sweep = [&](const SceneMotion& centre, double scale, int turns, int shifts,
+                         int climbs) {
+    const SceneMotion from = centre;
+    for (int k = -turns; k <= turns; ++k) {
+      for (int z = -climbs; z <= climbs; ++z) {
+        for (int x = -shifts; x <= shifts; ++x) {
+          for (int y = -shifts; y <= shifts; ++y) {
+            if (k == 0 && z == 0 && x == 0 && y == 0) continue;
+            SceneMotion motion;
+            motion.yaw = from.yaw + k * scale * turn_step;
+            motion.shift =
+                from.shift + scale * Eigen::Vector3d(x * xy_step, y * xy_step, z * z_step);
+            if (std::fabs(motion.yaw) > turn_range || std::fabs(motion.shift.x()) > xy_range ||
+                std::fabs(motion.shift.y()) > xy_range || std::fabs(motion.shift.z()) > z_range) {
+              continue;
+            }
+            const double s = score(motion);
+            if (s < best_score) {
+              best_score = s;
+              best = motion;
+            }
+          }
+        }
+      }
+    }
+  };
+  const auto steps = [](double range, double step) {
+    return static_cast<int>(std::floor(range / step));
+  };
+  sweep(SceneMotion(), 4.0, steps(turn_range, 4 * turn_step), steps(xy_range, 4 * xy_step),
+        steps(z_range, 4 * z_step));
+  sweep(best, 2.0, 2, 2, 2);
+  sweep(best, 1.0, 2, 2, 2);
+  return best;
+}
+
 // The weighted median of (value, weight) pairs: the smallest value at which the running
 // weight, in ascending order of value, reaches half the total. Found by selection (expected
 // linear time) rather than a full sort: it runs four times per motion measured (up to two a
@@ -440,6 +562,26 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   last.yaw = last_turn_;
   last.shift = last_shift_;
   if (!negligible(last)) tryMeasuredMotion(assignAfter(last));
+  // Where neither pairing reached the scene's motion (a sensor turning faster than it did),
+  // the motion searched within what a sensor can move since the last frame (searchMotion). Its
+  // pairing is kept only when it continues more planes than the pairing kept so far, not for
+  // a lower cost alone: a turned box's corners span a larger box, which overlaps more, so a
+  // small false turn would often cost less than none.
+  double last_stamp = -HUGE_VAL;
+  for (const Track& track : tracks_) {
+    if (track.missed == 0) last_stamp = std::max(last_stamp, track.plane.last_seen);
+  }
+  const SceneMotion searched = searchMotion(tracks_, planes, o, unpaired, stamp - last_stamp);
+  if (!negligible(searched)) {
+    SparseAssignment after = assignAfter(searched);
+    const auto paired = [](const SparseAssignment& a) {
+      return std::count_if(a.col_of_row.begin(), a.col_of_row.end(), [](int p) { return p >= 0; });
+    };
+    if (paired(after) > paired(assignment)) {
+      assignment = std::move(after);
+      motion = searched;
+    }
+  }
   const std::vector<int>& assigned = assignment.col_of_row;
   last_turn_ = motion.yaw;
   last_shift_ = motion.shift;

@@ -97,7 +97,8 @@ assignment (Hungarian) per group of competing planes with a cost for leaving a p
 unpaired, the scene's apparent motion (a turn about the origin and a shift) estimated from a
 first pass and removed (kept only when
 it explains the frame better; the first pass also tried after the last frame's motion, of which
-only the motion its pairs measure is used), lost planes remembered for 30 frames and moved with the
+only the motion its pairs measure is used, and a motion searched within what a sensor can do
+since the last frame, kept when it pairs more planes), lost planes remembered for 30 frames and moved with the
 scene, merges and splits reported. `improved + merge` (the default of the extractor and the
 nodelet): the improved tracker on planes whose fragments were merged into one surface
 (docs/evaluation.md §5); the other two rows are the paper's one-plane-per-connected-region.

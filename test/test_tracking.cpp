@@ -258,10 +258,11 @@ TEST(PlaneTracker, ImprovedModeFollowsASensorThatMovesOnAsItMoved) {
 TEST(PlaneTracker, ImprovedModeFollowsAHandHeldCameraTurning8DegreesAFrameAt3Hz) {
   // An orientation only (an accelerometer): the reference frame turns and moves with the
   // camera, which turns 8° and steps 5 cm between frames a third of a second apart (kitchen_dev's
-  // camera turns up to 10° so). Five surfaces 40-60 cm across, 2-3 m away, move by 30-40 cm a
-  // frame, past the 9 cm any pair reaches and further than the last frame's motion predicts on the
-  // first turn; the motion searched within what a sensor can do in 1/3 s (45°/s, 0.75 m/s) pairs
-  // them. Every surface keeps its first id in every frame.
+  // camera turns up to 10° so). Five surfaces 20-30 cm across, 2.7-3.5 m away, move by 38-49 cm
+  // a frame, past the 9 cm any pair reaches and further than the last frame's motion predicts on
+  // the first turn; the motion searched within what a sensor can do in 1/3 s (45°/s, 0.75 m/s)
+  // pairs them (the tracker lost them before it searched). Every surface keeps its first id in
+  // every frame.
   struct Rectangle {
     double height, x0, y0, x1, y1;
   };

@@ -243,16 +243,6 @@ constexpr double kMaxSpeed = 0.75;                                       // m/s
 constexpr double kMaxClimbRate = 0.25;                                   // m/s
 constexpr double kMinFrameSpacing = 1.0 / 30.0, kMaxFrameSpacing = 0.5;  // s
 
-// The scene's motion over a frame `spacing` seconds long, searched on a grid of turns and
-// shifts within what a sensor can move in that time: the motions measured from pairs made as
-// the planes are, or after the last frame's motion, need those pairs, and a hand-held camera
-// at 3 Hz turning 8° moves a plane 2 m away by 28 cm, past the 9 cm any pair reaches. Each
-// motion is scored by the sum over the planes of the cheapest pairing with a track seen in the
-// last frame (the unpaired cost at most; one to one is the assignment's job, made once for the
-// best). The grid's steps follow the cost's scales: half of xy_scale across, half of
-// height_scale in height, and the turn that moves the tracks' median distance from the
-// origin by the xy step (at least 1 m away); a coarse pass at twice the steps, then the fine
-// steps around its best. Ties keep the smaller motion: no motion is scored first.
 // The scene's motion is the large planes' (as estimateMotion weighs them): the search looks at
 // the kMotionPlanes largest planes and tracks only, so that a frame of a thousand fragments
 // costs no more than one of thirty planes.
@@ -273,6 +263,17 @@ std::vector<std::size_t> largest(const std::vector<const HorizontalPlane*>& plan
   return order;
 }
 
+// The scene's motion over a frame `spacing` seconds long, searched on a grid of turns and
+// shifts within what a sensor can move in that time: the motions measured from pairs made as
+// the planes are, or after the last frame's motion, need those pairs, and a hand-held camera
+// at 3 Hz turning 8° moves a plane 2 m away by 28 cm, past the 9 cm any pair reaches. Each
+// motion is scored by the sum over the planes of the cheapest pairing with a track seen in the
+// last frame (the unpaired cost at most; one to one is the assignment's job, made once for the
+// best). The grid's steps follow the cost's scales: half of xy_scale across, half of
+// height_scale in height, and the turn that moves the tracks' median distance from the
+// origin by the xy step (at least 1 m away). Coarse to fine: four steps apart over the whole
+// reach, then two and one step apart, two either side of the best so far. Ties keep the
+// smaller motion: no motion is scored first.
 template <class Track>
 SceneMotion searchMotion(const std::vector<Track>& tracks,
                          const std::vector<HorizontalPlane>& planes, const TrackerOptions& o,
@@ -322,7 +323,7 @@ SceneMotion searchMotion(const std::vector<Track>& tracks,
   // Every motion centre + k·step for |k| <= reach in each of yaw, x, y, z.
   const auto sweep = [&](const SceneMotion& centre, double scale, int turns, int shifts,
                          int climbs) {
-    const SceneMotion from = centre;
+    const SceneMotion from = centre;  // a copy: `best` may be the centre, and changes
     for (int k = -turns; k <= turns; ++k) {
       for (int z = -climbs; z <= climbs; ++z) {
         for (int x = -shifts; x <= shifts; ++x) {

@@ -263,10 +263,10 @@ std::vector<std::size_t> largest(const std::vector<const HorizontalPlane*>& plan
   return order;
 }
 
-// The scene's motion over a frame `spacing` seconds long, searched on a grid of turns and
-// shifts within what a sensor can move in that time: the motions measured from pairs made as
-// the planes are, or after the last frame's motion, need those pairs, and a hand-held camera
-// at 3 Hz turning 8° moves a plane 2 m away by 28 cm, past the 9 cm any pair reaches. Each
+// The scene's motion from the last frame to this one at `stamp`, searched on a grid of turns
+// and shifts within what a sensor can move in the time between: the motions measured from pairs
+// made as the planes are, or after the last frame's motion, need those pairs, and a hand-held
+// camera at 3 Hz turning 8° moves a plane 2 m away by 28 cm, past the 9 cm any pair reaches. Each
 // motion is scored by the sum over the planes of the cheapest pairing with a track seen in the
 // last frame (the unpaired cost at most; one to one is the assignment's job, made once for the
 // best). The grid's steps follow the cost's scales: half of xy_scale across, half of
@@ -277,10 +277,13 @@ std::vector<std::size_t> largest(const std::vector<const HorizontalPlane*>& plan
 template <class Track>
 SceneMotion searchMotion(const std::vector<Track>& tracks,
                          const std::vector<HorizontalPlane>& planes, const TrackerOptions& o,
-                         double unpaired, double spacing) {
+                         double unpaired, double stamp) {
   std::vector<const HorizontalPlane*> last_seen, now;
+  double last_stamp = -HUGE_VAL;  // the last frame's: its tracks were seen then
   for (const Track& t : tracks) {
-    if (t.missed == 0) last_seen.push_back(&t.plane);
+    if (t.missed > 0) continue;
+    last_seen.push_back(&t.plane);
+    last_stamp = std::max(last_stamp, t.plane.last_seen);
   }
   for (const HorizontalPlane& p : planes) now.push_back(&p);
   std::vector<const HorizontalPlane*> seen;
@@ -298,6 +301,7 @@ SceneMotion searchMotion(const std::vector<Track>& tracks,
   if (seen.empty() || boxes.empty()) return SceneMotion();
   std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
   const double radius = std::max(1.0, distances[distances.size() / 2]);
+  double spacing = stamp - last_stamp;
   if (!(spacing >= kMinFrameSpacing)) spacing = kMinFrameSpacing;  // also NaN
   spacing = std::min(spacing, kMaxFrameSpacing);
   const double xy_step = 0.5 * o.xy_scale, z_step = 0.5 * o.height_scale;
@@ -568,11 +572,7 @@ std::vector<TrackEvent> PlaneTracker::updateImproved(std::vector<HorizontalPlane
   // pairing is kept only when it continues more planes than the pairing kept so far, not for
   // a lower cost alone: a turned box's corners span a larger box, which overlaps more, so a
   // small false turn would often cost less than none.
-  double last_stamp = -HUGE_VAL;
-  for (const Track& track : tracks_) {
-    if (track.missed == 0) last_stamp = std::max(last_stamp, track.plane.last_seen);
-  }
-  const SceneMotion searched = searchMotion(tracks_, planes, o, unpaired, stamp - last_stamp);
+  const SceneMotion searched = searchMotion(tracks_, planes, o, unpaired, stamp);
   if (!negligible(searched)) {
     SparseAssignment after = assignAfter(searched);
     const auto paired = [](const SparseAssignment& a) {

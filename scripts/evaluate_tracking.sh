@@ -28,6 +28,10 @@ longer counts as a new surface, which penalises the map for keeping its id; the 
 each mode scores with the window over the whole run. `id_bound.py` gives the ceiling of any
 id assignment on the same planes: within a frame ids are distinct, so a surface the extraction
 gives two planes in one frame loses one of them whatever the tracker or the map does.
+`id_horizon.py` scores each run again with every id ended where it comes back after more than
+the window unseen (as the tracker's lost planes end): what the window costs the map, which
+keeps its ids. Window 3 at 3 Hz is the second that 30 frames are in a 30 Hz recording: there
+the map as it is scores below the tracker, and above it with its ids ended at the window.
 Made by `bash scripts/map_kitchen.sh` (→ docs/map_kitchen.md), run by this script.
 
 TEXT

@@ -6,7 +6,9 @@
 # overlapping >= 30 %), and once more with the window over the whole run (85 frames), since a
 # surface unseen for more than 30 frames counts as a new one in the first, which the map by
 # design does not. Beside them the best any id assignment could reach on the same planes
-# (scripts/id_bound.py), and the map's extents against the points (hope_extract --map-extents).
+# (scripts/id_bound.py), the same runs with each id ended after the scorer's window unseen
+# (scripts/id_horizon.py: at 30 frames, and at 3, the 1 s a 30 Hz recording's 30 frames are),
+# and the map's extents against the points (hope_extract --map-extents).
 # Writes docs/map_kitchen.md; scripts/evaluate_tracking.sh puts it into docs/tracking.md.
 # Usage: scripts/map_kitchen.sh
 set -euo pipefail
@@ -37,6 +39,15 @@ trap 'rm -rf "$tmp"' EXIT
   echo "# scripts/id_bound.py on the map's run: the ceiling of any id assignment on these planes"
   echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl")"
   echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl" --window 85)"
+  # The scorer's horizon: each id ended where it comes back after more than the window unseen.
+  # Window 3 at 3 Hz is the 1 s that 30 frames are at 30 Hz (a contiguous Kinect recording).
+  for window in 30 3; do
+    for mode in improved map; do
+      echo "# scripts/id_horizon.py on the $mode run, window $window"
+      python3 scripts/id_horizon.py "$tmp/$mode.jsonl" --window "$window" --scorer "$scorer" |
+        sed 's/^/  /'
+    done
+  done
   echo '```'
   echo
   echo "The map's largest entries: each outline against the union of all points given its id"

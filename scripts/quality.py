@@ -17,8 +17,8 @@ Figures, each one line "NAME VALUE BOUND ok|FAIL" (docs/quality.md says what eac
   scheme, scripts/mosd_whole_objects.py: what "one object per thing a person would name" asks);
 - ../shared/tools/id_accuracy.py on kitchen_dev and studyroom_dev, run with the world poses,
   (the surface map and the improved tracker), with the accelerometer and with --level, and
-  scripts/id_bound.py on the pose runs: plane
-  identities and the extraction's ceiling.
+  scripts/id_bound.py and scripts/id_horizon.py on the pose runs: plane identities, the
+  extraction's ceiling, and the map's ids scored with each one ended after the scorer's window.
 Floors file: "NAME >= BOUND" or "NAME <= BOUND" a line, "#" starts a comment. A figure whose
 data is absent is reported "skipped" and does not fail; a floor whose figure was not measured
 although its data is there fails. Exit 1 when any figure fails, 2 on a malformed floors file or
@@ -157,7 +157,8 @@ def identities(sequence, mode):
     folder = os.path.join(DATA, SEQUENCES[sequence])
     names = [f'{sequence}.{mode}.{f}' for f in ID_FIGURES]
     if mode == 'poses':
-        names += [f'{sequence}.poses.id_ceiling', f'{sequence}.poses.id_ceiling_area']
+        names += [f'{sequence}.poses.id_ceiling', f'{sequence}.poses.id_ceiling_area',
+                  f'{sequence}.poses.horizon_idf1', f'{sequence}.poses.horizon_idf1_area']
     accuracy = scorer('id_accuracy.py', folder)
     if not accuracy:
         return {name: SKIPPED for name in names}
@@ -187,6 +188,14 @@ def identities(sequence, mode):
             what = f'id_bound.py on {sequence}'
             figures[names[3]] = number(r'best reachable IDF1 ([0-9.]+) %', out, what)
             figures[names[4]] = number(r'area-weighted ([0-9.]+) %', out, what)
+            # The map's ids never end for not being seen; the scorer joins planes at most 30
+            # frames apart: the same run with each id ended after 30 unseen frames.
+            out = run([sys.executable, os.path.join(ROOT, 'scripts', 'id_horizon.py'), jsonl,
+                       '--scorer', accuracy])
+            what = f'id_horizon.py on {sequence}'
+            ended = out[out.index('ids ended after'):]
+            figures[names[5]] = number(r'IDF1 ([0-9.]+) %', ended, what)
+            figures[names[6]] = number(r'area-weighted ([0-9.]+) %', ended, what)
     return figures
 
 

@@ -8,7 +8,7 @@
 # design does not. Beside them the best any id assignment could reach on the same planes
 # (scripts/id_bound.py), the same runs with each id ended after the scorer's window unseen
 # (scripts/id_horizon.py: at 30 frames, and at 3, the 1 s a 30 Hz recording's 30 frames are),
-# and the map's extents against the points (hope_extract --map-extents).
+# the map with a memory as long (--map-forget 10 and 1), and the map's extents against the points (hope_extract --map-extents).
 # Writes docs/map_kitchen.md; scripts/evaluate_tracking.sh puts it into docs/tracking.md.
 # Usage: scripts/map_kitchen.sh
 set -euo pipefail
@@ -39,6 +39,14 @@ trap 'rm -rf "$tmp"' EXIT
   echo "# scripts/id_bound.py on the map's run: the ceiling of any id assignment on these planes"
   echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl")"
   echo "  $(python3 scripts/id_bound.py "$tmp/map.jsonl" --window 85)"
+  # The map with a memory (--map-forget): 10 s is the scorer's 30 frames at 3 Hz, 1 s its 3.
+  for forget in 10:30 1:3; do
+    seconds=${forget%:*} window=${forget#*:}
+    echo "# hope_extract --sequence kitchen_dev --intrinsics \"585 585 320 240\" --tracking map --map-forget $seconds"
+    "$extract" --sequence "$data/kitchen_dev" --intrinsics "585 585 320 240" --tracking map \
+      --map-forget "$seconds" --jsonl "$tmp/forget.jsonl" --quiet 2>/dev/null
+    echo "  window $window: $(python3 "$scorer" "$tmp/forget.jsonl" --world --window "$window")"
+  done
   # The scorer's horizon: each id ended where it comes back after more than the window unseen.
   # Window 3 at 3 Hz is the 1 s that 30 frames are at 30 Hz (a contiguous Kinect recording).
   for window in 30 3; do

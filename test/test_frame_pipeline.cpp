@@ -485,6 +485,37 @@ TEST(FramePipeline, PlacementsAreAnsweredOnTheFrameAskedAfterLaterFrames) {
   EXPECT_THROW(pipeline.findPlacements(without, query), std::invalid_argument);
 }
 
+// map_forget_s reaches the map: the same view again 0.4 s later keeps the floor's and the
+// table's ids, 0.6 s after that (past a 0.5 s memory) gives them new ones; without a memory
+// (the default) they are kept 100 s later.
+TEST(FramePipeline, TheMapForgetsASurfaceOutOfViewLongerThanItsMemory) {
+  const std::vector<RenderedCloud> frames = renderPan(2, 160);
+  const RenderedCloud& view = frames[0];
+  for (double memory : {0.5, 0.0}) {
+    PipelineOptions options;
+    options.identity = Identity::kMap;
+    options.map_forget_s = memory;
+    FramePipeline pipeline(options);
+    const auto idsAt = [&](double stamp) {
+      const Frame frame = pipeline.process(PointsView::of(view.cloud), stamp,
+                                           Orientation::fromTransform(view.camera.pose));
+      EXPECT_TRUE(frame.processed) << frame.skipped;
+      return std::make_pair(idOfSurface(frame, view.truth, 0), idOfSurface(frame, view.truth, 1));
+    };
+    const auto first = idsAt(0.0);
+    ASSERT_GE(first.first, 0);
+    ASSERT_GE(first.second, 0);
+    EXPECT_EQ(idsAt(0.4), first) << "memory " << memory << ": seen 0.4 s ago";
+    const auto later = idsAt(memory > 0 ? 1.0 : 100.4);
+    if (memory > 0) {
+      EXPECT_NE(later.first, first.first) << "floor unseen for 0.6 s, past the 0.5 s memory";
+      EXPECT_NE(later.second, first.second) << "table unseen for 0.6 s";
+    } else {
+      EXPECT_EQ(later, first) << "no memory limit: kept 100 s later";
+    }
+  }
+}
+
 TEST(FramePipeline, NewOptionsRestartTheMapOnlyWhenItsCellsChangeAndBadOnesChangeNothing) {
   const std::vector<RenderedCloud> frames = renderPan(2, 160);
   PipelineOptions options;

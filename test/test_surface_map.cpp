@@ -370,6 +370,39 @@ TEST(SurfaceMap, MemoryIsBoundedByDroppingTheEntrySeenLongestAgo) {
   EXPECT_EQ(std::set<int>(ids.begin(), ids.end()).size(), 4u);
 }
 
+// With forget_after_s, a table out of view for longer than it is new when seen again (an
+// end event for the old id once its memory has passed), and one out of view for less keeps
+// its id: at 10 Hz, 2 s away with a 3 s memory, then 4 s away.
+TEST(SurfaceMap, ATableOutOfViewLongerThanTheMemoryIsNewWhenSeenAgain) {
+  SurfaceMapOptions options;
+  options.forget_after_s = 3.0;
+  SurfaceMap map(options);
+  int frames = 0;
+  std::vector<double> ended_at;  // the stamps of the table's end events
+  int table = -1;
+  const auto look = [&](bool at_table) {
+    const double stamp = 0.1 * frames++;
+    std::vector<HorizontalPlane> frame = {at_table ? plane(0, 0, 1.2, 0.8, 0.75)
+                                                   : plane(3, -1, 5, 2, 0)};
+    for (const TrackEvent& e : map.update(frame, stamp, kEye)) {
+      if (e.kind == TrackEvent::Kind::kEnded && e.id == table) ended_at.push_back(stamp);
+    }
+    return frame[0].id;
+  };
+  table = look(true);                        // at 0 s
+  for (int f = 0; f < 20; ++f) look(false);  // 0.1-2.0 s
+  EXPECT_EQ(look(true), table) << "out of view 2.1 s, within the 3 s memory";
+  for (int f = 0; f < 40; ++f) look(false);  // 2.2-6.1 s
+  const int again = look(true);              // at 6.2 s
+  EXPECT_NE(again, table) << "out of view 4.1 s, past the 3 s memory";
+  ASSERT_EQ(ended_at.size(), 1u);
+  EXPECT_GT(ended_at[0] - 2.1, 3.0 - 1e-9);  // ended once its memory had passed, not before
+  EXPECT_LT(ended_at[0] - 2.1, 3.0 + 0.1 + 1e-9);
+  // The floor, seen every other frame, stays; the old table is no longer in the map.
+  EXPECT_EQ(map.size(), 2u);
+  EXPECT_EQ(surfaceWithId(map.surfaces(), table), nullptr);
+}
+
 TEST(SurfaceMap, BadOptionsAreRefusedByName) {
   SurfaceMapOptions options;
   options.cell = 0;
@@ -391,6 +424,11 @@ TEST(SurfaceMap, BadOptionsAreRefusedByName) {
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
   options = SurfaceMapOptions();
   options.height_error = std::nan("");
+  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
+  options = SurfaceMapOptions();
+  options.forget_after_s = -1;
+  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
+  options.forget_after_s = std::nan("");
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
 }
 

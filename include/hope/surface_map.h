@@ -50,6 +50,12 @@ struct SurfaceMapOptions {
   double height_error = 0.025;
   // At most this many entries; beyond it the one seen longest ago is removed (an event).
   std::size_t max_entries = 1000;
+  // An entry not seen for longer than this, seconds, is removed (an event) before the next
+  // frame is matched: a surface out of view that long is new when seen again. 0 keeps every
+  // entry however long it is out of view (a table looked away from keeps its id), unless its
+  // space is seen empty or max_entries removes it. id_accuracy.py counts a surface out of view
+  // for more than 30 frames as a new one (docs/quality.md, "The scorer's horizon").
+  double forget_after_s = 0.0;
   // An entry not seen in a frame whose inner cells (not on its rim) were seen through (rays
   // from the sensor to a lower surface's observed cells cross them) for at least this share is
   // gone (0–1]. An entry with no inner cell (narrower than three cells) is never seen empty.
@@ -70,7 +76,8 @@ class SurfaceMap {
   // Gives each plane of a frame (in the map's fixed frame) the id of its map entry, in place,
   // growing the entries; age and last_seen are set as the tracker sets them. Returns what
   // happened: kNew (an entry added), kMerged (id subsumed by other_id), kEnded (an entry
-  // removed: its space seen empty, or the oldest beyond max_entries). `viewpoint` is the
+  // removed: its space seen empty, not seen for forget_after_s, or the oldest beyond
+  // max_entries). `viewpoint` is the
   // sensor's position in the map's frame; without it nothing is seen empty.
   std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp,
                                  const std::optional<Eigen::Vector3d>& viewpoint = std::nullopt);

@@ -25,6 +25,14 @@ TrackerOptions trackerOptionsFor(Identity identity) {
   return options;
 }
 
+// The map's cells and gates follow the extraction's grid (surfaceMapOptionsFor), its memory
+// the pipeline's option.
+SurfaceMapOptions mapOptionsFor(const PipelineOptions& options) {
+  SurfaceMapOptions map = surfaceMapOptionsFor(options.extraction);
+  map.forget_after_s = options.map_forget_s;
+  return map;
+}
+
 LevellingParams levellingFor(const PipelineOptions& options) {
   LevellingParams params = LevellingParams::forExtraction(options.extraction);
   params.max_correction_deg = options.level_bound_deg;
@@ -96,6 +104,10 @@ void validate(const PipelineOptions& options) {
     throw std::invalid_argument("obstacle_max_height must be in (1, 100] m (got " +
                                 std::to_string(options.obstacle_max_height) + ")");
   }
+  if (!(options.map_forget_s >= 0 && options.map_forget_s <= 1e6)) {
+    throw std::invalid_argument("map_forget_s must be in [0, 1e6] seconds (got " +
+                                std::to_string(options.map_forget_s) + ")");
+  }
   if (!(options.grid_resolution >= 0.005 && options.grid_resolution <= 10)) {
     throw std::invalid_argument("grid_resolution must be in [0.005, 10] m (got " +
                                 std::to_string(options.grid_resolution) + ")");
@@ -107,7 +119,7 @@ FramePipeline::FramePipeline(const PipelineOptions& options)
       extractor_(options.extraction),
       up_smoother_(std::make_unique<UpSmoother>(options.level_smoothing)),
       tracker_(trackerOptionsFor(options.identity)),
-      map_(surfaceMapOptionsFor(options.extraction)),
+      map_(mapOptionsFor(options)),
       floor_map_(std::make_unique<FloorMap>()),
       surfaces_(std::make_unique<SurfaceGrouping>(surfaceGroupingOptionsFor(options.extraction))) {}
 
@@ -126,14 +138,22 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
     }
   }
   // The map's cells are r_xy and its extension gate r_z: other values start it afresh (ids go
-  // on, never given twice).
-  const SurfaceMapOptions map_options = surfaceMapOptionsFor(options.extraction);
+  // on, never given twice); so does another memory.
+  const SurfaceMapOptions map_options = mapOptionsFor(options);
   if (map_options.cell != map_.options().cell ||
       map_options.max_extension_height_change != map_.options().max_extension_height_change) {
     if (map_.size() > 0) {
       notes.push_back("surface map restarted: its cells follow r_xy (" +
                       std::to_string(map_.options().cell) + " -> " +
                       std::to_string(map_options.cell) + " m) and r_z; " +
+                      std::to_string(map_.size()) + " surfaces forgotten");
+    }
+    map_.reset(map_options);
+  } else if (map_options.forget_after_s != map_.options().forget_after_s) {
+    if (map_.size() > 0) {
+      notes.push_back("surface map restarted: map_forget_s " +
+                      std::to_string(map_.options().forget_after_s) + " -> " +
+                      std::to_string(map_options.forget_after_s) + " s; " +
                       std::to_string(map_.size()) + " surfaces forgotten");
     }
     map_.reset(map_options);

@@ -37,6 +37,9 @@ void validate(const SurfaceMapOptions& options) {
       "tilt_error_deg = " + std::to_string(options.tilt_error_deg) + " is out of range [0, 45]");
   require(options.height_error >= 0 && options.height_error <= 10,
           "height_error = " + std::to_string(options.height_error) + " is out of range [0, 10] m");
+  require(
+      options.forget_after_s >= 0 && options.forget_after_s <= 1e6,
+      "forget_after_s = " + std::to_string(options.forget_after_s) + " is out of range [0, 1e6] s");
   require(options.emptied_share > 0 && options.emptied_share <= 1,
           "emptied_share = " + std::to_string(options.emptied_share) + " is out of range (0, 1]");
 }
@@ -283,6 +286,16 @@ std::vector<double> SurfaceMap::heightsInMap(
 std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes, double stamp,
                                            const std::optional<Eigen::Vector3d>& viewpoint) {
   std::vector<TrackEvent> events;
+  // Entries out of view for longer than forget_after_s are gone before this frame is matched.
+  if (options_.forget_after_s > 0) {
+    const auto forgotten = [&](const Entry& entry) {
+      return stamp - entry.last_seen > options_.forget_after_s;
+    };
+    for (const Entry& entry : entries_) {
+      if (forgotten(entry)) events.push_back({TrackEvent::Kind::kEnded, entry.id});
+    }
+    entries_.erase(std::remove_if(entries_.begin(), entries_.end(), forgotten), entries_.end());
+  }
   const double cell = options_.cell;
   // Larger planes first: a floor or a table claims its entry before a fragment of it does.
   std::vector<std::size_t> order(planes.size());

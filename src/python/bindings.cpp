@@ -951,7 +951,7 @@ PYBIND11_MODULE(_hope, m) {
       "fixed frame (a pose per frame). See include/hope/surface_map.h")
       .def(py::init([](double cell, double max_height_change, double max_extension_height_change,
                        std::size_t max_entries, double emptied_share, double tilt_error_deg,
-                       double height_error) {
+                       double height_error, double forget_after_s) {
              hope::SurfaceMapOptions o;
              o.cell = cell;
              o.max_height_change = max_height_change;
@@ -960,6 +960,7 @@ PYBIND11_MODULE(_hope, m) {
              o.emptied_share = emptied_share;
              o.tilt_error_deg = tilt_error_deg;
              o.height_error = height_error;
+             o.forget_after_s = forget_after_s;
              return hope::SurfaceMap(o);  // validates: ValueError naming the option
            }),
            py::arg("cell") = map_defaults.cell,
@@ -968,7 +969,8 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("max_entries") = map_defaults.max_entries,
            py::arg("emptied_share") = map_defaults.emptied_share,
            py::arg("tilt_error_deg") = map_defaults.tilt_error_deg,
-           py::arg("height_error") = map_defaults.height_error)
+           py::arg("height_error") = map_defaults.height_error,
+           py::arg("forget_after_s") = map_defaults.forget_after_s)
       .def(
           "update",
           [](hope::SurfaceMap& map, ExtractionResult& r, double stamp,

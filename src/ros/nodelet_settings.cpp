@@ -75,6 +75,7 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
   pnh.param("level_hold_s", p.level_hold_s, p.level_hold_s);
   replaced(pnh, "gravity_window", "gravity_window_s", 1.0 / 30, p.gravity_window_s, notes);
   pnh.param("gravity_window_s", p.gravity_window_s, p.gravity_window_s);
+  pnh.param("map_forget_s", p.map_forget_s, p.map_forget_s);
   // Each start-up value checked on its own against the pipeline's ranges: a bad one is said and
   // its default used.
   auto checked = [&](const char* name, double hope::PipelineOptions::*field) {
@@ -91,6 +92,7 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
   checked("level_smoothing", &hope::PipelineOptions::level_smoothing);
   checked("level_hold_s", &hope::PipelineOptions::level_hold_s);
   checked("gravity_window_s", &hope::PipelineOptions::gravity_window_s);
+  checked("map_forget_s", &hope::PipelineOptions::map_forget_s);
   if (s.refine && (s.source == "scene" || s.source == "none")) {
     notes.push_back("~refine_orientation applies to imu, tf and fixed; ignored with " + s.source);
     s.refine = false;

@@ -111,6 +111,9 @@ hope::tools::CommandLine commandLine() {
              "map (default with world poses: one id per surface for the whole run, extents "
              "grown over frames), improved (default otherwise) or paper (NNPM of §2.5, Eq "
              "11-14)")
+      .value("--map-forget", "S",
+             "with --tracking map: a surface out of view for longer than S seconds is new when "
+             "seen again (default 0: never)")
       .value("--map", "FILE.json", "with --tracking map: the final map of the surfaces")
       .value("--map-extents", "FILE.md",
              "with --tracking map: each entry's outline against the union of all points given "
@@ -579,6 +582,10 @@ int runSequence(const Options& o) {
         "camera's position is unknown");
   }
   hope::FramePipeline pipeline(pipeline_options);  // validates every option
+  if (o.values.count("--map-forget") && !use_map) {
+    throw std::invalid_argument("--map-forget is the surface map's memory, which --tracking " +
+                                tracking + " does not keep");
+  }
   std::optional<hope::tools::OutputFile> map_file;
   if (o.values.count("--map")) {
     if (!use_map) {
@@ -832,7 +839,7 @@ int run(const Options& o) {
   for (const char* sequence_only :
        {"--groundtruth", "--accelerometer", "--max-time-difference", "--tracking", "--jsonl",
         "--orientation-source", "--level-smoothing", "--level-hold", "--gravity-window",
-        "--overlay-dir", "--strict", "--map", "--map-extents", "--every"}) {
+        "--overlay-dir", "--strict", "--map", "--map-extents", "--map-forget", "--every"}) {
     if (o.values.count(sequence_only) || o.flag(sequence_only)) {
       throw std::invalid_argument(std::string(sequence_only) + " goes with --sequence");
     }

@@ -188,14 +188,13 @@ def identities(sequence, mode):
             what = f'id_bound.py on {sequence}'
             figures[names[3]] = number(r'best reachable IDF1 ([0-9.]+) %', out, what)
             figures[names[4]] = number(r'area-weighted ([0-9.]+) %', out, what)
-            # The map's ids never end for not being seen; the scorer joins planes at most 30
-            # frames apart: the same run with each id ended after 30 unseen frames.
+            # By default the map's ids never end for not being seen; the scorer joins planes
+            # at most 30 frames apart: the same run with each id ended after 30 unseen frames.
             out = run([sys.executable, os.path.join(ROOT, 'scripts', 'id_horizon.py'), jsonl,
                        '--scorer', accuracy])
             what = f'id_horizon.py on {sequence}'
-            ended = out[out.index('ids ended after'):]
-            figures[names[5]] = number(r'IDF1 ([0-9.]+) %', ended, what)
-            figures[names[6]] = number(r'area-weighted ([0-9.]+) %', ended, what)
+            figures[names[5]] = number(r'ids ended after.*?IDF1 ([0-9.]+) %', out, what)
+            figures[names[6]] = number(r'ids ended after.*?area-weighted ([0-9.]+) %', out, what)
     return figures
 
 

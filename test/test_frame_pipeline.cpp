@@ -537,6 +537,14 @@ TEST(FramePipeline, NewOptionsRestartTheMapOnlyWhenItsCellsChangeAndBadOnesChang
   ASSERT_EQ(notes.size(), 1u);
   EXPECT_NE(notes[0].find("surface map restarted"), std::string::npos) << notes[0];
   EXPECT_EQ(pipeline.mapSize(), 0u);
+  pipeline.process(PointsView::of(frames[0].cloud), 0.1,
+                   Orientation::fromTransform(frames[0].camera.pose));
+  ASSERT_GT(pipeline.mapSize(), 0u);
+  options.map_forget_s = 5;  // another memory: the map starts afresh, and says why
+  const auto memory_notes = pipeline.setOptions(options);
+  ASSERT_EQ(memory_notes.size(), 1u);
+  EXPECT_NE(memory_notes[0].find("map_forget_s"), std::string::npos) << memory_notes[0];
+  EXPECT_EQ(pipeline.mapSize(), 0u);
   EXPECT_THROW(
       pipeline.processWithGravity(PointsView::of(frames[0].cloud), 1, Eigen::Vector3d(0, -9.81, 0)),
       std::invalid_argument)

@@ -77,8 +77,8 @@ class SurfaceMap {
   // growing the entries; age and last_seen are set as the tracker sets them. Returns what
   // happened: kNew (an entry added), kMerged (id subsumed by other_id), kEnded (an entry
   // removed: its space seen empty, not seen for forget_after_s, or the oldest beyond
-  // max_entries). `viewpoint` is the
-  // sensor's position in the map's frame; without it nothing is seen empty.
+  // max_entries). `viewpoint` is the sensor's position in the map's frame; without it nothing
+  // is seen empty.
   std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp,
                                  const std::optional<Eigen::Vector3d>& viewpoint = std::nullopt);
 

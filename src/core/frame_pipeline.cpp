@@ -140,21 +140,20 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
   // The map's cells are r_xy and its extension gate r_z: other values start it afresh (ids go
   // on, never given twice); so does another memory.
   const SurfaceMapOptions map_options = mapOptionsFor(options);
-  if (map_options.cell != map_.options().cell ||
-      map_options.max_extension_height_change != map_.options().max_extension_height_change) {
+  const SurfaceMapOptions& in_use = map_.options();
+  std::string why;
+  if (map_options.cell != in_use.cell ||
+      map_options.max_extension_height_change != in_use.max_extension_height_change) {
+    why = "its cells follow r_xy (" + std::to_string(in_use.cell) + " -> " +
+          std::to_string(map_options.cell) + " m) and r_z";
+  } else if (map_options.forget_after_s != in_use.forget_after_s) {
+    why = "map_forget_s " + std::to_string(in_use.forget_after_s) + " -> " +
+          std::to_string(map_options.forget_after_s) + " s";
+  }
+  if (!why.empty()) {
     if (map_.size() > 0) {
-      notes.push_back("surface map restarted: its cells follow r_xy (" +
-                      std::to_string(map_.options().cell) + " -> " +
-                      std::to_string(map_options.cell) + " m) and r_z; " +
-                      std::to_string(map_.size()) + " surfaces forgotten");
-    }
-    map_.reset(map_options);
-  } else if (map_options.forget_after_s != map_.options().forget_after_s) {
-    if (map_.size() > 0) {
-      notes.push_back("surface map restarted: map_forget_s " +
-                      std::to_string(map_.options().forget_after_s) + " -> " +
-                      std::to_string(map_options.forget_after_s) + " s; " +
-                      std::to_string(map_.size()) + " surfaces forgotten");
+      notes.push_back("surface map restarted: " + why + "; " + std::to_string(map_.size()) +
+                      " surfaces forgotten");
     }
     map_.reset(map_options);
   }

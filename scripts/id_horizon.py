@@ -40,17 +40,8 @@ def id_field(record):
     return 'surface_id' if planes and 'surface_id' in planes[0] else 'id'
 
 
-def same_place(a, b):
-    """The scorer's test for one surface: heights within 3 cm, boxes sharing >= 30 % of the
-    smaller one. a and b are (height, [x_min, y_min, x_max, y_max])."""
-    w = max(0.0, min(a[1][2], b[1][2]) - max(a[1][0], b[1][0]))
-    h = max(0.0, min(a[1][3], b[1][3]) - max(a[1][1], b[1][1]))
-    smaller = min((a[1][2] - a[1][0]) * (a[1][3] - a[1][1]),
-                  (b[1][2] - b[1][0]) * (b[1][3] - b[1][1])) or 1e-9
-    return abs(a[0] - b[0]) < 0.03 and w * h / smaller >= 0.3
-
-
 def main(path, window, scorer_path=None):
+    accuracy = scorer(scorer_path)
     records = [json.loads(line) for line in open(path) if line.strip()]
     records = [r for r in records if 'planes' in r]  # skipped frames carry none
     last_frame, last_place, renamed = {}, {}, {}
@@ -68,7 +59,11 @@ def main(path, window, scorer_path=None):
         for ident, (place, _) in places.items():
             if ident in last_frame and frame - last_frame[ident] > window:
                 returns += 1
-                same += same_place(last_place[ident], place)
+                # The scorer's own test for one surface: heights within 3 cm, boxes sharing
+                # >= 30 % of the smaller one.
+                before = last_place[ident]
+                same += (abs(before[0] - place[0]) < 0.03
+                         and accuracy.overlap(before[1], place[1]) >= 0.3)
                 renamed[ident] = next_name
                 next_name += 1
             last_frame[ident], last_place[ident] = frame, place
@@ -76,7 +71,6 @@ def main(path, window, scorer_path=None):
             plane[field] = renamed.get(plane[field], plane[field])
     print(f'ids seen again after more than {window} frames unseen: {returns}, '
           f'{same} of them at the same place (within 3 cm, boxes sharing >= 30 %)')
-    accuracy = scorer(scorer_path)
     print('as run:', end=' ', flush=True)
     accuracy.main(path, None, True, window)
     with tempfile.NamedTemporaryFile('w', suffix='.jsonl', delete=False) as out:

@@ -24,14 +24,16 @@ layout with `groundtruth.txt` in a gravity-aligned world; research use only, rea
 `../shared/tools/id_accuracy.py --world` derives the surfaces from the poses (planes of frames
 at most 30 frames apart whose heights differ < 3 cm and whose xy boxes overlap ≥ 30 % of the
 smaller are one surface, joined transitively). With its 30-frame window a surface unseen for
-longer counts as a new surface, which penalises the map for keeping its id; the second line of
-each mode scores with the window over the whole run. `id_bound.py` gives the ceiling of any
-id assignment on the same planes: within a frame ids are distinct, so a surface the extraction
-gives two planes in one frame loses one of them whatever the tracker or the map does.
-`id_horizon.py` scores each run again with every id ended where it comes back after more than
-the window unseen (as the tracker's lost planes end): what the window costs the map, which
-keeps its ids. Window 3 at 3 Hz is the second that 30 frames are in a 30 Hz recording: there
-the map as it is scores below the tracker, and above it with its ids ended at the window.
+longer counts as a new surface; the map's ids end there too (a surface unseen in 30 frames in
+a row takes a new id), and `--map-forget 0` keeps them however long, which the scorer counts as one
+id on two surfaces; the second line of each mode scores with the window over the whole run.
+`id_bound.py` gives the ceiling of any id assignment on the same planes: within a frame ids are
+distinct, so a surface the extraction gives two planes in one frame loses one of them whatever
+the tracker or the map does. `id_horizon.py` scores each run again with every id ended where it
+comes back after more than the window unseen (as the tracker's lost planes end): what the
+window costs a run that keeps its ids. Window 3 at 3 Hz is the second that 30 frames are in a
+30 Hz recording: there the map with a memory of 3 frames scores above the tracker, with none
+below it.
 Made by `bash scripts/map_kitchen.sh` (→ docs/map_kitchen.md), run by this script.
 
 TEXT

@@ -2,9 +2,9 @@
 """How much of a run's id score is lost to the scorer's horizon. ../shared/tools/id_accuracy.py
 joins two planes into one surface only when they are at most WINDOW frames apart (default 30,
 the improved tracker's memory), directly or through planes between: a surface out of view for
-longer comes back as a new surface, and an id that stayed on it (as the surface map's ids do:
-by default they never end for not being seen; --map-forget gives it a memory) is scored as one
-id on two surfaces. This prints
+longer comes back as a new surface, and an id that stayed on it (as the surface map's ids do
+with no memory limit, --map-forget 0; by default they end after 30 frames unseen) is scored as
+one id on two surfaces. This prints
 - the ids seen again after more than WINDOW frames unseen, and how many of those came back to
   the same place (world heights within 3 cm and boxes sharing >= 30 % of the smaller, the
   scorer's own test, between the id's last plane before the gap and its first after it);

@@ -485,33 +485,44 @@ TEST(FramePipeline, PlacementsAreAnsweredOnTheFrameAskedAfterLaterFrames) {
   EXPECT_THROW(pipeline.findPlacements(without, query), std::invalid_argument);
 }
 
-// map_forget_s reaches the map: the same view again 0.4 s later keeps the floor's and the
-// table's ids, 0.6 s after that (past a 0.5 s memory) gives them new ones; without a memory
-// (the default) they are kept 100 s later.
+// map_forget_frames reaches the map: with a memory of 2 frames, the floor and the table keep
+// their ids across 1 frame of another place (the same view 50 m away: nothing of them is
+// seen), and take new ones after 2; without a memory (0) they are kept after 40.
 TEST(FramePipeline, TheMapForgetsASurfaceOutOfViewLongerThanItsMemory) {
   const std::vector<RenderedCloud> frames = renderPan(2, 160);
   const RenderedCloud& view = frames[0];
-  for (double memory : {0.5, 0.0}) {
+  Eigen::Isometry3d elsewhere = view.camera.pose;
+  elsewhere.translation().x() += 50;
+  for (int memory : {2, 0}) {
     PipelineOptions options;
     options.identity = Identity::kMap;
-    options.map_forget_s = memory;
+    options.map_forget_frames = memory;
     FramePipeline pipeline(options);
-    const auto idsAt = [&](double stamp) {
-      const Frame frame = pipeline.process(PointsView::of(view.cloud), stamp,
+    double stamp = 0;
+    const auto ids = [&]() {
+      const Frame frame = pipeline.process(PointsView::of(view.cloud), stamp += 1,
                                            Orientation::fromTransform(view.camera.pose));
       EXPECT_TRUE(frame.processed) << frame.skipped;
       return std::make_pair(idOfSurface(frame, view.truth, 0), idOfSurface(frame, view.truth, 1));
     };
-    const auto first = idsAt(0.0);
+    const auto away = [&](int frames_away) {
+      for (int f = 0; f < frames_away; ++f) {
+        pipeline.process(PointsView::of(view.cloud), stamp += 1,
+                         Orientation::fromTransform(elsewhere));
+      }
+    };
+    const auto first = ids();
     ASSERT_GE(first.first, 0);
     ASSERT_GE(first.second, 0);
-    EXPECT_EQ(idsAt(0.4), first) << "memory " << memory << ": seen 0.4 s ago";
-    const auto later = idsAt(memory > 0 ? 1.0 : 100.4);
+    away(1);
+    EXPECT_EQ(ids(), first) << "memory " << memory << ": unseen in 1 frame";
+    away(memory > 0 ? 2 : 40);
+    const auto later = ids();
     if (memory > 0) {
-      EXPECT_NE(later.first, first.first) << "floor unseen for 0.6 s, past the 0.5 s memory";
-      EXPECT_NE(later.second, first.second) << "table unseen for 0.6 s";
+      EXPECT_NE(later.first, first.first) << "floor unseen in 2 frames: a 2-frame memory passed";
+      EXPECT_NE(later.second, first.second) << "table unseen in 2 frames";
     } else {
-      EXPECT_EQ(later, first) << "no memory limit: kept 100 s later";
+      EXPECT_EQ(later, first) << "no memory limit: kept after 40 frames away";
     }
   }
 }
@@ -540,10 +551,10 @@ TEST(FramePipeline, NewOptionsRestartTheMapOnlyWhenItsCellsChangeAndBadOnesChang
   pipeline.process(PointsView::of(frames[0].cloud), 0.1,
                    Orientation::fromTransform(frames[0].camera.pose));
   ASSERT_GT(pipeline.mapSize(), 0u);
-  options.map_forget_s = 5;  // another memory: the map starts afresh, and says why
+  options.map_forget_frames = 5;  // another memory: the map starts afresh, and says why
   const auto memory_notes = pipeline.setOptions(options);
   ASSERT_EQ(memory_notes.size(), 1u);
-  EXPECT_NE(memory_notes[0].find("map_forget_s"), std::string::npos) << memory_notes[0];
+  EXPECT_NE(memory_notes[0].find("map_forget_frames"), std::string::npos) << memory_notes[0];
   EXPECT_EQ(pipeline.mapSize(), 0u);
   EXPECT_THROW(
       pipeline.processWithGravity(PointsView::of(frames[0].cloud), 1, Eigen::Vector3d(0, -9.81, 0)),

@@ -64,9 +64,12 @@ bool hasEvent(const std::vector<TrackEvent>& events, TrackEvent::Kind kind, int 
 const Eigen::Vector3d kEye(0.6, -1.5, 1.6);  // a sensor in front of the table, above it
 
 // A table seen in its left half, out of view for 100 frames (the sensor looks at the floor
-// elsewhere), then seen in its right half: one id, and the map holds the whole table.
+// elsewhere), then seen in its right half: with no memory limit (forget_after_frames 0), one
+// id, and the map holds the whole table.
 TEST(SurfaceMap, ATableOutOfViewFor100FramesKeepsItsIdAndItsWholeExtent) {
-  SurfaceMap map;
+  SurfaceMapOptions permanent;
+  permanent.forget_after_frames = 0;
+  SurfaceMap map(permanent);
   int table = -1, floor = -1;
   double stamp = 0;
   for (int f = 0; f < 10; ++f, stamp += 0.1) {
@@ -370,37 +373,49 @@ TEST(SurfaceMap, MemoryIsBoundedByDroppingTheEntrySeenLongestAgo) {
   EXPECT_EQ(std::set<int>(ids.begin(), ids.end()).size(), 4u);
 }
 
-// With forget_after_s, a table out of view for longer than it is new when seen again (an
-// end event for the old id once its memory has passed), and one out of view for less keeps
-// its id: at 10 Hz, 2 s away with a 3 s memory, then 4 s away.
+// A table not seen in forget_after_frames frames in a row takes a new id when seen again (an
+// end event for the old id in that frame, a new event for the new one), one unseen in one frame
+// fewer keeps its id: the default memory, 30 frames, as id_accuracy.py joins two planes at most
+// 30 frames apart; the stamps (1 s apart, keyframes) do not matter. The entry keeps its extent:
+// its left half seen first, its right half after the memory passed is the same entry (it
+// touches it at its height), and the map holds the whole table under the new id.
 TEST(SurfaceMap, ATableOutOfViewLongerThanTheMemoryIsNewWhenSeenAgain) {
-  SurfaceMapOptions options;
-  options.forget_after_s = 3.0;
-  SurfaceMap map(options);
+  SurfaceMap map;
+  const int memory = SurfaceMapOptions().forget_after_frames;
+  ASSERT_EQ(memory, 30);
   int frames = 0;
-  std::vector<double> ended_at;  // the stamps of the table's end events
-  int table = -1;
-  const auto look = [&](bool at_table) {
-    const double stamp = 0.1 * frames++;
-    std::vector<HorizontalPlane> frame = {at_table ? plane(0, 0, 1.2, 0.8, 0.75)
-                                                   : plane(3, -1, 5, 2, 0)};
-    for (const TrackEvent& e : map.update(frame, stamp, kEye)) {
-      if (e.kind == TrackEvent::Kind::kEnded && e.id == table) ended_at.push_back(stamp);
+  std::vector<int> ended_in, new_in;  // the frames of the table's end and new events
+  int table = -1, again = -1;
+  enum class View { kLeftHalf, kRightHalf, kAway };
+  const auto look = [&](View view) {
+    const int index = frames++;
+    std::vector<HorizontalPlane> frame = {view == View::kLeftHalf    ? plane(0, 0, 0.6, 0.8, 0.75)
+                                          : view == View::kRightHalf ? plane(0.6, 0, 1.2, 0.8, 0.75)
+                                                                     : plane(3, -1, 5, 2, 0)};
+    for (const TrackEvent& e : map.update(frame, 1.0 * index, kEye)) {
+      if (e.kind == TrackEvent::Kind::kEnded && e.id == table) ended_in.push_back(index);
+      if (e.kind == TrackEvent::Kind::kNew && view == View::kRightHalf) new_in.push_back(index);
     }
     return frame[0].id;
   };
-  table = look(true);                        // at 0 s
-  for (int f = 0; f < 20; ++f) look(false);  // 0.1-2.0 s
-  EXPECT_EQ(look(true), table) << "out of view 2.1 s, within the 3 s memory";
-  for (int f = 0; f < 40; ++f) look(false);  // 2.2-6.1 s
-  const int again = look(true);              // at 6.2 s
-  EXPECT_NE(again, table) << "out of view 4.1 s, past the 3 s memory";
-  ASSERT_EQ(ended_at.size(), 1u);
-  EXPECT_GT(ended_at[0] - 2.1, 3.0 - 1e-9);  // ended once its memory had passed, not before
-  EXPECT_LT(ended_at[0] - 2.1, 3.0 + 0.1 + 1e-9);
-  // The floor, seen every other frame, stays; the old table is no longer in the map.
+  table = look(View::kLeftHalf);                                     // frame 0
+  for (int f = 0; f < memory - 1; ++f) look(View::kAway);            // frames 1-29
+  EXPECT_EQ(look(View::kLeftHalf), table) << "unseen in 29 frames";  // frame 30
+  for (int f = 0; f < memory; ++f) look(View::kAway);                // frames 31-60
+  again = look(View::kRightHalf);                                    // frame 61
+  EXPECT_NE(again, table) << "unseen in 30 frames: past the memory";
+  ASSERT_EQ(ended_in.size(), 1u);
+  EXPECT_EQ(ended_in[0], 61) << "ended in the frame its memory had passed, before it matched";
+  EXPECT_EQ(new_in, std::vector<int>{61});
+  EXPECT_EQ(look(View::kLeftHalf), again) << "the new id holds";  // frame 62
+  // The floor and the table, one entry each; the table's entry is whole under its new id.
   EXPECT_EQ(map.size(), 2u);
-  EXPECT_EQ(surfaceWithId(map.surfaces(), table), nullptr);
+  const std::vector<HorizontalPlane> surfaces = map.surfaces();
+  EXPECT_EQ(surfaceWithId(surfaces, table), nullptr);
+  const HorizontalPlane* whole = surfaceWithId(surfaces, again);
+  ASSERT_NE(whole, nullptr);
+  EXPECT_NEAR(whole->area, 1.2 * 0.8, 0.05);  // both halves, to a row of 5 cm cells
+  EXPECT_EQ(whole->age, 2);                   // frames seen in with its new id
 }
 
 TEST(SurfaceMap, BadOptionsAreRefusedByName) {
@@ -426,9 +441,7 @@ TEST(SurfaceMap, BadOptionsAreRefusedByName) {
   options.height_error = std::nan("");
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
   options = SurfaceMapOptions();
-  options.forget_after_s = -1;
-  EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
-  options.forget_after_s = std::nan("");
+  options.forget_after_frames = -1;
   EXPECT_THROW(SurfaceMap{options}, std::invalid_argument);
 }
 

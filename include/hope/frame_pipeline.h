@@ -91,10 +91,11 @@ struct PipelineOptions {
   // The floor grid's cells (Frame::floor_grid), metres a side: a robot's footprint is a few
   // of them.
   double grid_resolution = 0.05;
-  // The surface map (Identity::kMap) ends a surface out of view for longer than this, seconds
-  // (SurfaceMapOptions::forget_after_s): seen again, it is new. 0 keeps it however long (a
-  // table looked away from keeps its id).
-  double map_forget_s = 0.0;
+  // The surface map (Identity::kMap) ends the id of a surface not seen in this many frames in
+  // a row (SurfaceMapOptions::forget_after_frames): seen again, it takes a new one, as the
+  // tracker's ids end after 30 missed frames. 0 keeps it however long (a table looked away
+  // from keeps its id).
+  int map_forget_frames = SurfaceMapOptions().forget_after_frames;
 };
 
 // Throws std::invalid_argument naming the option and its range (the extraction's, the

@@ -1,18 +1,18 @@
 // A map of the surfaces seen in a fixed frame (a pose per frame, or tf to odom / map): each
-// physical surface one entry with one id for as long as the map lives. The paper's NNPM (§2.5)
-// and the PlaneTracker keep ids between recent frames; a robot that looks away and back, or
-// walks around a room, wants each table once, with all it has seen of it (as ARCore keeps its
-// planes and says which plane subsumed which). An entry's extent is the union of the cells its
-// observations occupied (grown as the sensor moves, never replaced by the last view), its
+// physical surface one entry, its id kept until it is out of view for forget_after_frames. The
+// paper's NNPM (§2.5) and the PlaneTracker keep ids between recent frames; a robot that looks away
+// and back, or walks around a room, wants each table once, with all it has seen of it (as ARCore
+// keeps its planes and says which plane subsumed which). An entry's extent is the union of the
+// cells its observations occupied (grown as the sensor moves, never replaced by the last view), its
 // height and normal the area-weighted estimate from all of them. An entry out of view keeps
-// its id and extent and takes them back when seen again, however much later, unless the
-// space where it was is seen empty (the sensor's rays to a surface below pass through it):
-// then it is removed, with an event. Two entries that one observation shows to be one surface
-// merge into the one seen in more frames. Heights are compared in the map's frame: the
-// frame's own height error, measured by the surfaces seen again, is taken off first. Memory and
-// time are bounded: at most max_entries entries (the one seen longest ago goes first), and a frame
-// costs what its planes and the entries they touch cost, not what the map has accumulated
-// elsewhere.
+// its extent and takes it back when seen again, however much later, with its id if that is
+// within forget_after_frames frames (always with 0) and a new one otherwise, unless the space where
+// it was is seen empty (the sensor's rays to a surface below pass through it): then it is removed,
+// with an event. Two entries that one observation shows to be one surface merge into the one seen
+// in more frames. Heights are compared in the map's frame: the frame's own height error, measured
+// by the surfaces seen again, is taken off first. Memory and time are bounded: at most max_entries
+// entries (the one seen longest ago goes first), and a frame costs what its planes and the entries
+// they touch cost, not what the map has accumulated elsewhere.
 #pragma once
 
 #include <cstddef>
@@ -50,12 +50,14 @@ struct SurfaceMapOptions {
   double height_error = 0.025;
   // At most this many entries; beyond it the one seen longest ago is removed (an event).
   std::size_t max_entries = 1000;
-  // An entry not seen for longer than this, seconds, is removed (an event) before the next
-  // frame is matched: a surface out of view that long is new when seen again. 0 keeps every
-  // entry however long it is out of view (a table looked away from keeps its id), unless its
-  // space is seen empty or max_entries removes it. id_accuracy.py counts a surface out of view
-  // for more than 30 frames as a new one (docs/quality.md, "The scorer's horizon").
-  double forget_after_s = 0.0;
+  // The id of an entry not seen in this many frames in a row (update() calls) ends (an event)
+  // before the next frame is matched: a surface out of view that long has a new id when seen
+  // again (kNew then), as the tracker ends a track after its max_missed_frames (30) and
+  // id_accuracy.py counts a surface unseen for 30 frames as a new one (docs/quality.md, "The
+  // surface map's memory"). The entry and its extent stay, to recognise it by. In frames, not
+  // seconds, so that it means the same at 30 Hz and for keyframes 1 s apart. 0 keeps every id
+  // however long it is out of view.
+  int forget_after_frames = 30;
   // An entry not seen in a frame whose inner cells (not on its rim) were seen through (rays
   // from the sensor to a lower surface's observed cells cross them) for at least this share is
   // gone (0–1]. An entry with no inner cell (narrower than three cells) is never seen empty.
@@ -75,16 +77,17 @@ class SurfaceMap {
 
   // Gives each plane of a frame (in the map's fixed frame) the id of its map entry, in place,
   // growing the entries; age and last_seen are set as the tracker sets them. Returns what
-  // happened: kNew (an entry added), kMerged (id subsumed by other_id), kEnded (an entry
-  // removed: its space seen empty, not seen for forget_after_s, or the oldest beyond
-  // max_entries). `viewpoint` is the sensor's position in the map's frame; without it nothing
-  // is seen empty.
+  // happened: kNew (an entry added, or seen again after its id ended), kMerged (id subsumed
+  // by other_id), kEnded (an id ended: its entry not seen in forget_after_frames; or an entry
+  // removed: its space seen empty, or the oldest beyond max_entries). `viewpoint` is the sensor's
+  // position in the map's frame; without it nothing is seen empty.
   std::vector<TrackEvent> update(std::vector<HorizontalPlane>& planes, double stamp,
                                  const std::optional<Eigen::Vector3d>& viewpoint = std::nullopt);
 
-  // The entries as planes, oldest first: id, height, normal and centroid estimated from all
-  // observations; bbox, area (cells × cell²) and outline of the union of their cells; age (the
-  // number of frames it was seen in) and last_seen; the rest as last observed.
+  // The entries as planes, oldest first: id (for an entry whose id ended, the one it takes when
+  // seen again), height, normal and centroid estimated from all observations; bbox, area (cells ×
+  // cell²) and outline of the union of their cells; age (the number of frames it was seen in) and
+  // last_seen; the rest as last observed.
   std::vector<HorizontalPlane> surfaces() const;
   std::size_t size() const { return entries_.size(); }
   const SurfaceMapOptions& options() const { return options_; }
@@ -99,6 +102,9 @@ class SurfaceMap {
     int id = 0;
     double first_seen = 0, last_seen = 0;
     int frames = 0;
+    std::int64_t last_frame = 0;  // the update() it was last seen in (SurfaceMap::updates_)
+    // Unseen for forget_after_frames: its id ended, `id` is the one it takes when seen again.
+    bool dormant = false;
     double weight = 0;  // observed area summed over frames
     double height_sum = 0;
     Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
@@ -118,6 +124,7 @@ class SurfaceMap {
   SurfaceMapOptions options_;
   std::vector<Entry> entries_;
   int next_id_ = 0;
+  std::int64_t updates_ = 0;  // update() calls so far: the frames forget_after_frames counts
 };
 
 }  // namespace hope

@@ -29,7 +29,7 @@ TrackerOptions trackerOptionsFor(Identity identity) {
 // the pipeline's option.
 SurfaceMapOptions mapOptionsFor(const PipelineOptions& options) {
   SurfaceMapOptions map = surfaceMapOptionsFor(options.extraction);
-  map.forget_after_s = options.map_forget_s;
+  map.forget_after_frames = options.map_forget_frames;
   return map;
 }
 
@@ -104,9 +104,9 @@ void validate(const PipelineOptions& options) {
     throw std::invalid_argument("obstacle_max_height must be in (1, 100] m (got " +
                                 std::to_string(options.obstacle_max_height) + ")");
   }
-  if (!(options.map_forget_s >= 0 && options.map_forget_s <= 1e6)) {
-    throw std::invalid_argument("map_forget_s must be in [0, 1e6] seconds (got " +
-                                std::to_string(options.map_forget_s) + ")");
+  if (!(options.map_forget_frames >= 0 && options.map_forget_frames <= 1000000)) {
+    throw std::invalid_argument("map_forget_frames must be in [0, 1000000] frames (got " +
+                                std::to_string(options.map_forget_frames) + ")");
   }
   if (!(options.grid_resolution >= 0.005 && options.grid_resolution <= 10)) {
     throw std::invalid_argument("grid_resolution must be in [0.005, 10] m (got " +
@@ -146,9 +146,9 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
       map_options.max_extension_height_change != in_use.max_extension_height_change) {
     why = "its cells follow r_xy (" + std::to_string(in_use.cell) + " -> " +
           std::to_string(map_options.cell) + " m) and r_z";
-  } else if (map_options.forget_after_s != in_use.forget_after_s) {
-    why = "map_forget_s " + std::to_string(in_use.forget_after_s) + " -> " +
-          std::to_string(map_options.forget_after_s) + " s";
+  } else if (map_options.forget_after_frames != in_use.forget_after_frames) {
+    why = "map_forget_frames " + std::to_string(in_use.forget_after_frames) + " -> " +
+          std::to_string(map_options.forget_after_frames);
   }
   if (!why.empty()) {
     if (map_.size() > 0) {

@@ -128,11 +128,13 @@ std::vector<ParameterSpec> makeTable() {
   t.push_back(aboveMin(number("obstacle_max_height", "--obstacle-max-height", d.obstacle_max_height,
                               1.0, 100.0, "m", "obstacles", true, "and at most this far above it",
                               [](PipelineOptions& o, double v) { o.obstacle_max_height = v; })));
-  t.push_back(number("map_forget_s", "--map-forget", d.map_forget_s, 0.0, 1e6, "s", "surface map",
-                     false,
-                     "tracking_mode map: a surface out of view for longer is new when seen "
-                     "again (0: never)",
-                     [](PipelineOptions& o, double v) { o.map_forget_s = v; }));
+  t.push_back(
+      typed(number("map_forget_frames", "--map-forget", d.map_forget_frames, 0, 1000000, "frames",
+                   "surface map", false,
+                   "tracking_mode map: a surface not seen in this many frames in a row "
+                   "takes a new id when seen again, as the tracker's ids end (0: never)",
+                   [](PipelineOptions& o, double v) { o.map_forget_frames = static_cast<int>(v); }),
+            ParameterSpec::Type::kInt));
   t.push_back(number("grid_resolution", "--grid-resolution", d.grid_resolution, 0.005, 10.0, "m",
                      "floor grid", true, "the floor grid's cells, metres a side",
                      [](PipelineOptions& o, double v) { o.grid_resolution = v; }));

@@ -947,11 +947,12 @@ PYBIND11_MODULE(_hope, m) {
   const hope::SurfaceMapOptions map_defaults;
   py::class_<hope::SurfaceMap>(
       m, "SurfaceMap",
-      "One id per surface for as long as the map lives, extents grown over frames: for planes in a "
+      "One id per surface, extents grown over frames, until it is unseen for forget_after_frames: "
+      "for planes in a "
       "fixed frame (a pose per frame). See include/hope/surface_map.h")
       .def(py::init([](double cell, double max_height_change, double max_extension_height_change,
                        std::size_t max_entries, double emptied_share, double tilt_error_deg,
-                       double height_error, double forget_after_s) {
+                       double height_error, int forget_after_frames) {
              hope::SurfaceMapOptions o;
              o.cell = cell;
              o.max_height_change = max_height_change;
@@ -960,7 +961,7 @@ PYBIND11_MODULE(_hope, m) {
              o.emptied_share = emptied_share;
              o.tilt_error_deg = tilt_error_deg;
              o.height_error = height_error;
-             o.forget_after_s = forget_after_s;
+             o.forget_after_frames = forget_after_frames;
              return hope::SurfaceMap(o);  // validates: ValueError naming the option
            }),
            py::arg("cell") = map_defaults.cell,
@@ -970,7 +971,7 @@ PYBIND11_MODULE(_hope, m) {
            py::arg("emptied_share") = map_defaults.emptied_share,
            py::arg("tilt_error_deg") = map_defaults.tilt_error_deg,
            py::arg("height_error") = map_defaults.height_error,
-           py::arg("forget_after_s") = map_defaults.forget_after_s)
+           py::arg("forget_after_frames") = map_defaults.forget_after_frames)
       .def(
           "update",
           [](hope::SurfaceMap& map, ExtractionResult& r, double stamp,

@@ -75,10 +75,13 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
   pnh.param("level_hold_s", p.level_hold_s, p.level_hold_s);
   replaced(pnh, "gravity_window", "gravity_window_s", 1.0 / 30, p.gravity_window_s, notes);
   pnh.param("gravity_window_s", p.gravity_window_s, p.gravity_window_s);
-  pnh.param("map_forget_s", p.map_forget_s, p.map_forget_s);
+  if (pnh.hasParam("map_forget_s")) {
+    notes.push_back("~map_forget_s is replaced by ~map_forget_frames (frames, not seconds)");
+  }
+  pnh.param("map_forget_frames", p.map_forget_frames, p.map_forget_frames);
   // Each start-up value checked on its own against the pipeline's ranges: a bad one is said and
   // its default used.
-  auto checked = [&](const char* name, double hope::PipelineOptions::*field) {
+  auto checked = [&](const char* name, auto field) {  // a pointer to PipelineOptions' member
     hope::PipelineOptions alone;
     alone.*field = p.*field;
     try {
@@ -92,7 +95,7 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
   checked("level_smoothing", &hope::PipelineOptions::level_smoothing);
   checked("level_hold_s", &hope::PipelineOptions::level_hold_s);
   checked("gravity_window_s", &hope::PipelineOptions::gravity_window_s);
-  checked("map_forget_s", &hope::PipelineOptions::map_forget_s);
+  checked("map_forget_frames", &hope::PipelineOptions::map_forget_frames);
   if (s.refine && (s.source == "scene" || s.source == "none")) {
     notes.push_back("~refine_orientation applies to imu, tf and fixed; ignored with " + s.source);
     s.refine = false;

@@ -108,12 +108,13 @@ hope::tools::CommandLine commandLine() {
              "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
              "that close are skipped and counted")
       .value("--tracking", "MODE",
-             "map (default with world poses: one id per surface for the whole run, extents "
-             "grown over frames), improved (default otherwise) or paper (NNPM of §2.5, Eq "
+             "map (default with world poses: one id per surface until it is unseen in "
+             "--map-forget frames, extents grown over frames), improved (default otherwise) or "
+             "paper (NNPM of §2.5, Eq "
              "11-14)")
-      .value("--map-forget", "S",
-             "with --tracking map: a surface out of view for longer than S seconds is new when "
-             "seen again (default 0: never)")
+      .value("--map-forget", "N",
+             "with --tracking map: a surface not seen in N frames in a row takes a new id when "
+             "seen again, as the tracker's ids end (default 30; 0: never)")
       .value("--map", "FILE.json", "with --tracking map: the final map of the surfaces")
       .value("--map-extents", "FILE.md",
              "with --tracking map: each entry's outline against the union of all points given "
@@ -568,8 +569,8 @@ int runSequence(const Options& o) {
     throw std::invalid_argument("--level-bound goes with --level");
   }
   // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
-  // id for the whole run. Gravity alone leaves the camera's position unknown: frame-to-frame
-  // tracking.
+  // entry for the whole run (its id until --map-forget frames unseen). Gravity alone leaves the
+  // camera's position unknown: frame-to-frame tracking.
   const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
   if (!o.values.count("--tracking") && fixed_frame)
     pipeline_options.identity = hope::Identity::kMap;

@@ -104,8 +104,8 @@ nodelet): the improved tracker on planes whose fragments were merged into one su
 (docs/evaluation.md §5); the other two rows are the paper's one-plane-per-connected-region.
 `map + merge` (pose only: it needs the fixed frame): the surface map (`hope::SurfaceMap`,
 the default of `hope_extract --sequence` with poses) on the merged surfaces: one entry per
-surface for as long as the map lives, extents grown over the frames, no forgetting; its
-µs/frame include growing the extents.
+surface, extents grown over the frames, until it is unseen in 30 frames in a row (as the
+tracker's lost planes); its µs/frame include growing the extents.
 
 )";
 

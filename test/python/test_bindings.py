@@ -261,6 +261,19 @@ class DemoRoom(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "tilt_error_deg"):
             hope.SurfaceMap(tilt_error_deg=-1.0)
         hope.SurfaceMap(tilt_error_deg=0.0, height_error=0.0)  # heights as measured: accepted
+        with self.assertRaisesRegex(ValueError, "forget_after_frames"):
+            hope.SurfaceMap(forget_after_frames=-1)
+
+    def test_surface_map_forgets_a_surface_unseen_for_its_memory(self):
+        surface_map = hope.SurfaceMap(forget_after_frames=1)
+        seen = hope.Extractor().extract(self.points, pose=self.pose)
+        surface_map.update(seen, 0.0)
+        _, events = surface_map.update([], 1.0)  # a frame without them: within the memory
+        self.assertFalse([e for e in events if e.kind == "ended"])
+        again = hope.Extractor().extract(self.points, pose=self.pose)
+        events = surface_map.update(again, 2.0)  # unseen in 1 frame: the memory has passed
+        self.assertEqual(len([e for e in events if e.kind == "ended"]), len(self.truth))
+        self.assertFalse({p.id for p in seen.planes} & {p.id for p in again.planes})
 
     def test_tracker_takes_a_list_of_planes(self):
         tracker = hope.PlaneTracker()

@@ -293,7 +293,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
   // is matched: seen in frame f, unseen in f+1 .. f+N, an entry has a new id in f+N+1
   // (id_accuracy.py joins two planes at most N = 30 frames apart). The entry keeps its extent:
   // seen again, it is recognised from all it was seen as, not from its first partial view
-  // (kitchen_dev at a 3-frame horizon: 95.5 % IDF1 against 90.7 % with the entry removed,
+  // (kitchen_dev at a 3-frame horizon: 95.3 % IDF1 against 90.7 % with the entry removed,
   // docs/quality.md).
   if (options_.forget_after_frames > 0) {
     for (Entry& entry : entries_) {

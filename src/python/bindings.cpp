@@ -947,8 +947,8 @@ PYBIND11_MODULE(_hope, m) {
   const hope::SurfaceMapOptions map_defaults;
   py::class_<hope::SurfaceMap>(
       m, "SurfaceMap",
-      "One id per surface, extents grown over frames, until it is unseen for forget_after_frames: "
-      "for planes in a "
+      "One entry per surface, extents grown over frames; its id ends after forget_after_frames "
+      "unseen, and it takes a new one when seen again: for planes in a "
       "fixed frame (a pose per frame). See include/hope/surface_map.h")
       .def(py::init([](double cell, double max_height_change, double max_extension_height_change,
                        std::size_t max_entries, double emptied_share, double tilt_error_deg,

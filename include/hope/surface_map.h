@@ -103,8 +103,9 @@ class SurfaceMap {
     double first_seen = 0, last_seen = 0;
     int frames = 0;
     std::int64_t last_frame = 0;  // the update() it was last seen in (SurfaceMap::updates_)
-    // Unseen for forget_after_frames: its id ended, `id` is the one it takes when seen again.
-    bool dormant = false;
+    // Seen in no frame under its id: its last id ended after forget_after_frames unseen, `id` is
+    // the one it takes when seen again (observe() counts frames from 1 on).
+    bool dormant() const { return frames == 0; }
     double weight = 0;  // observed area summed over frames
     double height_sum = 0;
     Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();

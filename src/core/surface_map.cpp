@@ -297,11 +297,10 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
   // docs/quality.md).
   if (options_.forget_after_frames > 0) {
     for (Entry& entry : entries_) {
-      if (entry.dormant || updates_ - entry.last_frame <= options_.forget_after_frames) continue;
+      if (entry.dormant() || updates_ - entry.last_frame <= options_.forget_after_frames) continue;
       events.push_back({TrackEvent::Kind::kEnded, entry.id});
       entry.id = next_id_++;  // announced (kNew) when it is seen again
-      entry.dormant = true;
-      entry.frames = 0;
+      entry.frames = 0;       // dormant
     }
   }
   const double cell = options_.cell;
@@ -428,13 +427,14 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       if (e == chosen) continue;
       absorb(target, entries_[e]);
       // A dormant entry's new id was never given to a plane: nothing to say.
-      if (!entries_[e].dormant) {
+      if (!entries_[e].dormant()) {
         events.push_back({TrackEvent::Kind::kMerged, entries_[e].id, target.id});
       }
       entries_[e].weight = 0;  // removed below
     }
-    if (target.dormant) {  // seen again after its id ended: its new id starts here
-      target.dormant = false;
+    // Seen again after its id ended: its new id starts here. (A dormant entry is chosen only
+    // with dormant ones, the others having frames.)
+    if (target.dormant()) {
       target.first_seen = stamp;
       events.push_back({TrackEvent::Kind::kNew, target.id});
     }
@@ -497,7 +497,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
       if (inner > 0 && static_cast<double>(inner_through) >=
                            options_.emptied_share * static_cast<double>(inner)) {
         // A dormant entry's id was never given (its last one ended already).
-        if (!entry.dormant) events.push_back({TrackEvent::Kind::kEnded, entry.id});
+        if (!entry.dormant()) events.push_back({TrackEvent::Kind::kEnded, entry.id});
         entry.weight = 0;
       }
     }
@@ -510,7 +510,7 @@ std::vector<TrackEvent> SurfaceMap::update(std::vector<HorizontalPlane>& planes,
     auto oldest =
         std::min_element(entries_.begin(), entries_.end(),
                          [](const Entry& a, const Entry& b) { return a.last_seen < b.last_seen; });
-    if (!oldest->dormant) events.push_back({TrackEvent::Kind::kEnded, oldest->id});
+    if (!oldest->dormant()) events.push_back({TrackEvent::Kind::kEnded, oldest->id});
     entries_.erase(oldest);
   }
   return events;

@@ -18,7 +18,8 @@ Figures, each one line "NAME VALUE BOUND ok|FAIL" (docs/quality.md says what eac
 - ../shared/tools/id_accuracy.py on kitchen_dev and studyroom_dev, run with the world poses,
   (the surface map and the improved tracker), with the accelerometer and with --level, and
   scripts/id_bound.py and scripts/id_horizon.py on the pose runs: plane identities, the
-  extraction's ceiling, and the map's ids scored with each one ended after the scorer's window.
+  extraction's ceiling, and the map's ids scored with each one ended after the scorer's window;
+  and the objects a frame in the accelerometer and --level runs (an up with its error).
 Floors file: "NAME >= BOUND" or "NAME <= BOUND" a line, "#" starts a comment. A figure whose
 data is absent is reported "skipped" and does not fail; a floor whose figure was not measured
 although its data is there fails. Exit 1 when any figure fails, 2 on a malformed floors file or
@@ -33,8 +34,10 @@ Usage: quality.py [--figures-only | --raise] [--figures FILE]
                   change that earned it.
 """
 import concurrent.futures
+import json
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -159,6 +162,12 @@ def identities(sequence, mode):
     if mode == 'poses':
         names += [f'{sequence}.poses.id_ceiling', f'{sequence}.poses.id_ceiling_area',
                   f'{sequence}.poses.horizon_idf1', f'{sequence}.poses.horizon_idf1_area']
+    # With an orientation only, the objects a frame too: the up's error (an accelerometer's,
+    # the scene's) tilts the planes in the frame, and a tilted floor's far side must not become
+    # things (the rooms part counts them with the true poses).
+    objects_names = ([f'{sequence}.{mode}.objects_per_frame.median',
+                      f'{sequence}.{mode}.objects_per_frame.max'] if mode in ('accel', 'level') else [])
+    names += objects_names
     accuracy = scorer('id_accuracy.py', folder)
     if not accuracy:
         return {name: SKIPPED for name in names}
@@ -183,6 +192,13 @@ def identities(sequence, mode):
             names[1]: number(r'area-weighted ([0-9.]+) %', out, what),
             names[2]: number(r'ids (\d+)', out, what) / max(surfaces, 1),
         }
+        if objects_names:
+            with open(jsonl) as f:
+                counts = [len(json.loads(line).get('objects', [])) for line in f if line.strip()]
+            if not counts:
+                raise RuntimeError(f'{jsonl}: no frames for {sequence} ({mode})')
+            figures[objects_names[0]] = statistics.median(counts)
+            figures[objects_names[1]] = max(counts)
         if mode == 'poses':
             out = run([sys.executable, os.path.join(ROOT, 'scripts', 'id_bound.py'), jsonl])
             what = f'id_bound.py on {sequence}'

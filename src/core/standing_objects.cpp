@@ -588,6 +588,23 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // millimetres above its mean height at its far side, and feet are millimetres high.
   std::vector<HeightAbovePlane> above_fitted;
   for (int support : supports) above_fitted.emplace_back(planes[support], local_origin);
+  // Height above support s's fitted surface over its own extent, held at its box's edge
+  // beyond it: a plane's tilt is measured over its extent and is not followed past it (a small
+  // plane's fitted normal, degrees off, would rise or sink metres away).
+  std::vector<Eigen::AlignedBox2f> extent_of_support;
+  for (int support : supports) {
+    const auto& b = planes[support].bbox;
+    extent_of_support.emplace_back(Eigen::Vector2f(static_cast<float>(b[0] - local_origin.x()),
+                                                   static_cast<float>(b[1] - local_origin.y())),
+                                   Eigen::Vector2f(static_cast<float>(b[2] - local_origin.x()),
+                                                   static_cast<float>(b[3] - local_origin.y())));
+  }
+  const auto aboveFittedOverExtent = [&](std::size_t s, const Eigen::Vector3f& q) {
+    const Eigen::AlignedBox2f& box = extent_of_support[s];
+    const Eigen::Vector2f held = q.head<2>().cwiseMax(box.min()).cwiseMin(box.max());
+    const double surface = above_fitted[s](Eigen::Vector3f(held.x(), held.y(), 0.0f));
+    return static_cast<double>(q.z()) + surface;  // surface = -(its height under `held`)
+  };
   // The sensor's range noise σ at q, and three σ of it seen vertically; 0 without a viewpoint.
   struct NoiseAt {
     double sigma = 0.0, vertical = 0.0;
@@ -641,7 +658,13 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     }
     for (std::size_t s = 0; s < supports.size() && over < 0; ++s) {
       if (!carrying[s]) continue;
-      const double above = q.z() - local_height[s];
+      // Above the plane by the margin both over its level height and over its fitted surface
+      // over its extent (aboveFittedOverExtent): with an up a degree off (an accelerometer's
+      // usual error) a level floor rises in the frame by d·tan 1° away from its centroid (4 cm
+      // 2.4 m off), past the margin over its mean height, and its far samples would be taken
+      // for things; the tilted surface follows it. Not that surface alone: where it sinks
+      // below the level height (its far side the other way) it would let noise through.
+      const double above = std::min<double>(q.z() - local_height[s], aboveFittedOverExtent(s, q));
       if (above <= noise_margin) {  // below this plane: try the lower ones
         on_plane = on_plane || (point_labels[i] != supports[s] && above >= -noise_margin &&
                                 areas[s].contains(q.x(), q.y()));

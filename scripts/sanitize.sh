@@ -29,11 +29,13 @@ common=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 
   -DPYTHON_EXECUTABLE=/usr/bin/python3 "-DCMAKE_CXX_FLAGS=$flags" "-DCMAKE_EXE_LINKER_FLAGS=$link"
   "-DCMAKE_SHARED_LINKER_FLAGS=$link" "-DCMAKE_MODULE_LINKER_FLAGS=$link")
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-unit_tests="test_alignment test_stages test_extractor test_bad_input test_depth_image test_tum
-  test_cli_io test_cli_hostile test_tracking test_sequence test_sequence_broken
-  test_segmentation_metrics test_evaluation test_fragment_merging test_plane_outline test_lidar
-  test_threads test_reference_pipeline test_up_estimation test_standing_objects test_surface_map
-  test_frame_pipeline test_parameters test_surface_grouping test_floor_grid test_overlay"
+# The core's unit tests: CMakeLists.txt's HOPE_TESTS, so that a new one is sanitized too.
+unit_tests=$(sed -n '/set(HOPE_TESTS/,/)/p' "$root/CMakeLists.txt" | sed 's/set(HOPE_TESTS//; s/)//' |
+  tr -s ' \n' ' ')
+if [ -z "${unit_tests// /}" ]; then
+  echo "sanitize: no HOPE_TESTS list found in CMakeLists.txt" >&2
+  exit 1
+fi
 
 if [ "$whole" = 0 ]; then
   out=$root/build_asan_scalar

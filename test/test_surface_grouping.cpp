@@ -185,5 +185,48 @@ TEST(SurfaceGrouping, PiecesApartNowAreOneSurfaceWhereTheirIdsWereSeenOne) {
   EXPECT_EQ(now[1].surface_id, 12);
 }
 
+// A table top in two pieces, then seen whole as one piece that carries the smaller piece's id
+// (the tracker paired it so): the table is one surface throughout, and keeps the id it had. A
+// moment later a second piece joins it again; after memory_s unseen, the name is forgotten.
+TEST(SurfaceGrouping, ASurfaceKeepsItsIdWhenItsPiecesChange) {
+  SurfaceGrouping grouping;
+  std::vector<HorizontalPlane> two = {piece(97, 0.75, 0.0, 0.0, 0.6, 0.8),
+                                      piece(103, 0.752, 0.55, 0.0, 1.0, 0.8)};
+  grouping.assign(two, 10.0, std::nullopt, std::nullopt);
+  ASSERT_EQ(two[0].surface_id, 97) << "the larger piece names the surface";
+  ASSERT_EQ(two[1].surface_id, 97);
+  std::vector<HorizontalPlane> whole = {piece(103, 0.751, 0.0, 0.0, 1.0, 0.8)};
+  grouping.assign(whole, 10.3, std::nullopt, std::nullopt);
+  EXPECT_EQ(whole[0].surface_id, 97) << "the same table, seen whole under its other piece's id";
+  std::vector<HorizontalPlane> again = {piece(103, 0.751, 0.0, 0.0, 0.9, 0.8),
+                                        piece(110, 0.75, 0.85, 0.0, 1.0, 0.8)};
+  grouping.assign(again, 10.6, std::nullopt, std::nullopt);
+  EXPECT_EQ(again[0].surface_id, 97);
+  EXPECT_EQ(again[1].surface_id, 97) << "a new piece of it joins its surface";
+  whole = {piece(103, 0.751, 0.0, 0.0, 1.0, 0.8)};
+  grouping.assign(whole, 12.0, std::nullopt, std::nullopt);
+  EXPECT_EQ(whole[0].surface_id, 103) << "over memory_s later its surface is not remembered";
+}
+
+// A shelf seen as one surface in two pieces (7 names it), then the pieces apart in height (they
+// were two shelves): the piece that named the surface keeps the name even where the other is
+// now larger, the other is a surface of its own, and no two surfaces of the frame share an id.
+TEST(SurfaceGrouping, WhenASurfacePartsThePieceThatNamedItKeepsTheName) {
+  SurfaceGrouping grouping;
+  std::vector<HorizontalPlane> one = {piece(7, 1.00, 0.0, 0.0, 1.0, 0.5),
+                                      piece(12, 1.005, 0.9, 0.0, 1.4, 0.5)};
+  grouping.assign(one, 3.0, std::nullopt, std::nullopt);
+  ASSERT_EQ(one[1].surface_id, 7);
+  std::vector<HorizontalPlane> apart = {piece(7, 1.00, 0.0, 0.0, 0.5, 0.5),
+                                        piece(12, 1.10, 0.9, 0.0, 2.0, 0.5)};
+  grouping.assign(apart, 3.3, std::nullopt, std::nullopt);
+  EXPECT_EQ(apart[0].surface_id, 7);
+  EXPECT_EQ(apart[1].surface_id, 12);
+  // Told not to remember, a frame's surfaces are named by their largest pieces.
+  std::vector<HorizontalPlane> whole = {piece(12, 1.005, 0.0, 0.0, 1.4, 0.5)};
+  grouping.assign(whole, 3.6, std::nullopt, std::nullopt, false);
+  EXPECT_EQ(whole[0].surface_id, 12);
+}
+
 }  // namespace
 }  // namespace hope

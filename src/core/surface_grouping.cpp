@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace hope {
 
@@ -110,7 +112,8 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
       }
     }
   }
-  // Each group's largest piece names it.
+  // Each group's largest piece; a chain of pieces each one reading with the next may drift from
+  // it: one that is not one reading with it is not at the surface's height, and stays its own.
   std::vector<std::size_t> largest(n, n);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t& best = largest[root(parent, i)];
@@ -119,18 +122,111 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
       best = i;
     }
   }
-  // A chain of pieces each one reading with the next may drift from the largest: one that is
-  // not one reading with it is not at the surface's height, and stays its own.
+  std::vector<std::size_t> group(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t named = largest[root(parent, i)];
-    planes[i].surface_id = oneReading(i, named) ? planes[named].id : planes[i].id;
+    group[i] = oneReading(i, named) ? named : i;
   }
+  const std::vector<int> names = nameSurfaces(planes, group, remember);
+  for (std::size_t i = 0; i < n; ++i) planes[i].surface_id = names[group[i]];
   if (remember) {
-    Seen seen{stamp, {}};
+    Seen seen{stamp, {}, {}};
     seen.boxes.reserve(n);
-    for (const HorizontalPlane& plane : planes) seen.boxes.emplace_back(plane.id, plane.bbox);
+    seen.surfaces.reserve(n);
+    for (const HorizontalPlane& plane : planes) {
+      seen.boxes.emplace_back(plane.id, plane.bbox);
+      seen.surfaces.emplace_back(plane.id, plane.surface_id);
+    }
     recent_.push_back(std::move(seen));
   }
+}
+
+std::vector<int> SurfaceGrouping::nameSurfaces(const std::vector<HorizontalPlane>& planes,
+                                               const std::vector<std::size_t>& group,
+                                               bool remember) const {
+  const std::size_t n = planes.size();
+  // The surface each id was a piece of when last seen within memory_s (recent_ holds just those
+  // frames, oldest first, so the latest overwrites).
+  std::unordered_map<int, int> earlier_surface;
+  if (remember) {
+    for (const Seen& seen : recent_) {
+      for (const auto& [id, surface] : seen.surfaces) earlier_surface[id] = surface;
+    }
+  }
+  // What each group could keep: the surfaces its pieces belonged to, by the area of its pieces
+  // that were there; first those whose namesake piece is in the group (the piece that named the
+  // surface takes its name along, whichever side of a split is larger).
+  struct Claim {
+    bool has_namesake = false;
+    double area = 0.0;
+    int surface = 0;
+    std::size_t group = 0;
+  };
+  std::unordered_map<std::size_t, std::unordered_map<int, Claim>> claims_of_group;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it = earlier_surface.find(planes[i].id);
+    if (it == earlier_surface.end()) continue;
+    Claim& claim = claims_of_group[group[i]][it->second];
+    claim.surface = it->second;
+    claim.group = group[i];
+    claim.area += planes[i].area;
+    claim.has_namesake = claim.has_namesake || it->second == planes[i].id;
+  }
+  std::vector<Claim> claims;
+  for (const auto& [g, of_group] : claims_of_group) {
+    for (const auto& [surface, claim] : of_group) claims.push_back(claim);
+  }
+  std::sort(claims.begin(), claims.end(), [](const Claim& a, const Claim& b) {
+    if (a.has_namesake != b.has_namesake) return a.has_namesake;
+    if (a.area != b.area) return a.area > b.area;
+    if (a.surface != b.surface) return a.surface < b.surface;
+    return a.group < b.group;
+  });
+  constexpr int kUnnamed = std::numeric_limits<int>::min();
+  std::vector<int> names(n, kUnnamed);
+  std::unordered_set<int> taken;
+  for (const Claim& claim : claims) {
+    if (names[claim.group] != kUnnamed || taken.count(claim.surface)) continue;
+    names[claim.group] = claim.surface;
+    taken.insert(claim.surface);
+  }
+  // A surface new to the frame is named by its largest piece (the lower id on a tie) whose id no
+  // surface kept; the largest surfaces choose first.
+  std::vector<double> group_area(n, 0.0);
+  std::vector<std::vector<std::size_t>> pieces(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    group_area[group[i]] += planes[i].area;
+    pieces[group[i]].push_back(i);
+  }
+  std::vector<std::size_t> unnamed;
+  for (std::size_t g = 0; g < n; ++g) {
+    if (!pieces[g].empty() && names[g] == kUnnamed) unnamed.push_back(g);
+  }
+  auto larger = [&](std::size_t a, std::size_t b) {
+    if (planes[a].area != planes[b].area) return planes[a].area > planes[b].area;
+    return planes[a].id < planes[b].id;
+  };
+  std::sort(unnamed.begin(), unnamed.end(), [&](std::size_t a, std::size_t b) {
+    if (group_area[a] != group_area[b]) return group_area[a] > group_area[b];
+    return larger(a, b);  // a group's index is its largest piece
+  });
+  int next_free = 0;
+  for (const HorizontalPlane& plane : planes) next_free = std::max(next_free, plane.id + 1);
+  for (const auto& [id, surface] : earlier_surface) next_free = std::max(next_free, surface + 1);
+  for (std::size_t g : unnamed) {
+    std::sort(pieces[g].begin(), pieces[g].end(), larger);
+    for (std::size_t i : pieces[g]) {
+      if (!taken.count(planes[i].id)) {
+        names[g] = planes[i].id;
+        break;
+      }
+    }
+    // Every piece's id names another surface this frame (they kept names their pieces once
+    // carried): a number no plane or remembered surface has, so no two surfaces share one.
+    if (names[g] == kUnnamed) names[g] = next_free++;
+    taken.insert(names[g]);
+  }
+  return names;
 }
 
 }  // namespace hope

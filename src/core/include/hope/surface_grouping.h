@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <deque>
 #include <optional>
 #include <utility>
@@ -57,28 +58,37 @@ class SurfaceGrouping {
   explicit SurfaceGrouping(const SurfaceGroupingOptions& options = SurfaceGroupingOptions());
 
   // Sets each plane's surface_id: planes facing the same way whose heights are one reading
-  // (above) and whose ids' extents overlap are pieces of one surface (transitively), and carry
-  // the id of the largest of them (its area; the lower id on a tie), which keeps the surface's
-  // id as long as the largest piece keeps its own; a piece whose height is not one reading
-  // with the largest's (at the end of a chain) keeps its own. A plane alone is its own
-  // surface: surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
+  // (above) and whose ids' extents overlap are pieces of one surface (transitively); a piece
+  // whose height is not one reading with the largest piece's (at the end of a chain) is a
+  // surface of its own. A surface keeps its id from frame to frame: it carries the surface id
+  // its pieces had when last seen within memory_s (the one its pieces' area had most, and before
+  // all the one whose namesake piece it holds, so when a surface parts, the piece that named it
+  // keeps the name); two surfaces of a frame never share one. A surface new to the frame
+  // carries its largest piece's id (its area; the lower id on a tie) that no other surface
+  // keeps, in the rare case none is left a number no plane or remembered surface has. Without
+  // memory each surface is named by its largest piece and a plane alone is its own surface:
+  // surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
   // range of each piece) and `noise` its range noise; without either, the step and the up's
   // error alone.
   // `remember`: the planes' ids are persistent (a tracker's or a map's), and this frame's
-  // boxes extend their extents for the frames to come; a stamp older than the last forgets
-  // every extent (a looping bag). Without it (a frame answered apart from the stream) the
-  // frame's own boxes alone decide, and nothing remembered changes.
+  // boxes and surface ids extend their extents and names for the frames to come; a stamp older than
+  // the last forgets every extent (a looping bag). Without it (a frame answered apart from the
+  // stream) the frame's own boxes alone decide, and nothing remembered changes.
   void assign(std::vector<HorizontalPlane>& planes, double stamp,
               const std::optional<Eigen::Vector3d>& viewpoint,
               const std::optional<RangeNoise>& noise, bool remember = true);
-  // Forgets every id's extent.
+  // Forgets every id's extent and surface.
   void reset() { recent_.clear(); }
 
  private:
   struct Seen {
     double stamp;
     std::vector<std::pair<int, std::array<double, 4>>> boxes;  // (id, bbox) of each plane
+    std::vector<std::pair<int, int>> surfaces;                 // (id, surface_id) of each plane
   };
+  // The surface id of each group; `group[i]` is the index of plane i's group's largest piece.
+  std::vector<int> nameSurfaces(const std::vector<HorizontalPlane>& planes,
+                                const std::vector<std::size_t>& group, bool remember) const;
   SurfaceGroupingOptions options_;
   std::deque<Seen> recent_;
 };

@@ -51,7 +51,7 @@ What to expect:
   between frames at 30 Hz, 3° and 6 cm at 6 Hz). The kitchen, a hand-held camera walking,
   turns a median 3.6° and moves 7 cm between frames at 3 Hz, 7° and 14 cm at 1.5 Hz, 9° (at
   most 19°) and 21 cm at 1 Hz: a 9° turn moves a plane 3 m away by half a metre in the frame.
-  The accelerometer's ids read 63-69 % there at every rate (44 % at 1 Hz before the search,
+  The accelerometer's ids read 63-70 % there at every rate (44 % at 1 Hz before the search,
   docs/quality.md), against 83-90 % with poses: give poses where they are to be had.
 
 TEXT

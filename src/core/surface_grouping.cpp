@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -153,42 +154,59 @@ std::vector<int> SurfaceGrouping::nameSurfaces(const std::vector<HorizontalPlane
       for (const auto& [id, surface] : seen.surfaces) earlier_surface[id] = surface;
     }
   }
-  // What each group could keep: the surfaces its pieces belonged to, by the area of its pieces
-  // that were there; first those whose namesake piece is in the group (the piece that named the
-  // surface takes its name along, whichever side of a split is larger).
+  // What each group could keep: the surfaces its pieces belonged to, with the area of its
+  // pieces that were there, the most first (the surface most of the group was).
   struct Claim {
-    bool has_namesake = false;
     double area = 0.0;
+    bool has_namesake = false;  // the piece whose id names the surface is in the group
     int surface = 0;
-    std::size_t group = 0;
   };
-  std::unordered_map<std::size_t, std::unordered_map<int, Claim>> claims_of_group;
+  std::vector<std::vector<Claim>> claims(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto it = earlier_surface.find(planes[i].id);
     if (it == earlier_surface.end()) continue;
-    Claim& claim = claims_of_group[group[i]][it->second];
-    claim.surface = it->second;
-    claim.group = group[i];
-    claim.area += planes[i].area;
-    claim.has_namesake = claim.has_namesake || it->second == planes[i].id;
+    std::vector<Claim>& of_group = claims[group[i]];
+    auto claim = std::find_if(of_group.begin(), of_group.end(),
+                              [&](const Claim& c) { return c.surface == it->second; });
+    if (claim == of_group.end())
+      claim = of_group.insert(of_group.end(), Claim{0.0, false, it->second});
+    claim->area += planes[i].area;
+    claim->has_namesake = claim->has_namesake || it->second == planes[i].id;
   }
-  std::vector<Claim> claims;
-  for (const auto& [g, of_group] : claims_of_group) {
-    for (const auto& [surface, claim] : of_group) claims.push_back(claim);
+  for (std::vector<Claim>& of_group : claims) {
+    std::sort(of_group.begin(), of_group.end(), [](const Claim& a, const Claim& b) {
+      return a.area != b.area ? a.area > b.area : a.surface < b.surface;
+    });
   }
-  std::sort(claims.begin(), claims.end(), [](const Claim& a, const Claim& b) {
-    if (a.has_namesake != b.has_namesake) return a.has_namesake;
-    if (a.area != b.area) return a.area > b.area;
-    if (a.surface != b.surface) return a.surface < b.surface;
-    return a.group < b.group;
-  });
+  // Each group asks for its first claim no other surface has kept; where several ask for one
+  // name, the group holding its namesake piece keeps it (when a surface parts, the piece that
+  // named it takes the name along, whichever side is larger), else the one with more area
+  // there; the others ask for their next claim. Every round names at least one group.
   constexpr int kUnnamed = std::numeric_limits<int>::min();
   std::vector<int> names(n, kUnnamed);
+  std::vector<std::size_t> next_claim(n, 0);
   std::unordered_set<int> taken;
-  for (const Claim& claim : claims) {
-    if (names[claim.group] != kUnnamed || taken.count(claim.surface)) continue;
-    names[claim.group] = claim.surface;
-    taken.insert(claim.surface);
+  for (;;) {
+    std::map<int, std::size_t> winner;  // name -> the group that keeps it this round
+    for (std::size_t g = 0; g < n; ++g) {
+      if (names[g] != kUnnamed) continue;
+      while (next_claim[g] < claims[g].size() && taken.count(claims[g][next_claim[g]].surface)) {
+        ++next_claim[g];
+      }
+      if (next_claim[g] == claims[g].size()) continue;
+      const Claim& mine = claims[g][next_claim[g]];
+      const auto [it, first] = winner.emplace(mine.surface, g);
+      if (first) continue;
+      const Claim& theirs = claims[it->second][next_claim[it->second]];
+      if (mine.has_namesake != theirs.has_namesake ? mine.has_namesake : mine.area > theirs.area) {
+        it->second = g;
+      }
+    }
+    if (winner.empty()) break;
+    for (const auto& [surface, g] : winner) {
+      names[g] = surface;
+      taken.insert(surface);
+    }
   }
   // A surface new to the frame is named by its largest piece (the lower id on a tie) whose id no
   // surface kept; the largest surfaces choose first.

@@ -61,9 +61,10 @@ class SurfaceGrouping {
   // (above) and whose ids' extents overlap are pieces of one surface (transitively); a piece
   // whose height is not one reading with the largest piece's (at the end of a chain) is a
   // surface of its own. A surface keeps its id from frame to frame: it carries the surface id
-  // its pieces had when last seen within memory_s (the one its pieces' area had most, and before
-  // all the one whose namesake piece it holds, so when a surface parts, the piece that named it
-  // keeps the name); two surfaces of a frame never share one. A surface new to the frame
+  // most of its pieces' area had when last seen within memory_s; where two surfaces ask for one
+  // name (a surface that parted), the one holding the piece that named it keeps it (else the
+  // one with more area there) and the other asks for its next; two surfaces of a frame never
+  // share one. A surface new to the frame
   // carries its largest piece's id (its area; the lower id on a tie) that no other surface
   // keeps, in the rare case none is left a number no plane or remembered surface has. Without
   // memory each surface is named by its largest piece and a plane alone is its own surface:

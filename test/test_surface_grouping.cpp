@@ -1,5 +1,6 @@
-// Surface ids (surface_grouping.h): pieces of one surface in a frame share the largest one's id;
-// a piece at another height, facing the other way or elsewhere keeps its own. How far apart in
+// Surface ids (surface_grouping.h): pieces of one surface in a frame share one id (the largest
+// piece's in a first frame; a surface keeps its id from frame to frame); a piece at another
+// height, facing the other way or elsewhere is a surface of its own. How far apart in
 // height two pieces may be follows the sensor's noise at their ranges and the up's error across
 // the distance between them; where a piece lies follows where its id was seen in the last second.
 #include <cmath>

@@ -60,7 +60,9 @@ struct HorizontalPlane {
   // The id of the surface this plane is a piece of (FramePipeline; surface_grouping.h): pieces
   // of one physical surface in one frame (one height within r_z, or within the sensor's range
   // noise at their ranges and the up's error across the distance between them; their extents
-  // overlapping) share the id of the largest of them; a plane alone carries its own id.
+  // overlapping) share one. A surface keeps its id from frame to frame (the one most of its
+  // pieces' area carried in the last second); a surface new to the frame, or a frame answered
+  // apart from a stream, carries its largest piece's id, so a plane alone carries its own.
   int surface_id = 0;
 
   // Moves the plane's position fields (height, bbox, centroid, hull, outline) by `offset`.

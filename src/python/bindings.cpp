@@ -766,8 +766,10 @@ PYBIND11_MODULE(_hope, m) {
       .def_readonly("age", &hope::HorizontalPlane::age)
       .def_readonly("last_seen", &hope::HorizontalPlane::last_seen)
       .def_readonly("split_from", &hope::HorizontalPlane::split_from)
-      .def_readonly("surface_id", &hope::HorizontalPlane::surface_id,
-                    "the surface it is a piece of: pieces of one surface in a frame share it")
+      .def_readonly(
+          "surface_id", &hope::HorizontalPlane::surface_id,
+          "the surface it is a piece of: pieces of one surface in a frame share it, and a "
+          "surface keeps it from frame to frame")
       .def("to_dict", &planeDict, "every field of hope_extract's JSON output")
       .def("__repr__", &planeRepr);
 

@@ -64,17 +64,16 @@ class SurfaceGrouping {
   // most of its pieces' area had when last seen within memory_s; where two surfaces ask for one
   // name (a surface that parted), the one holding the piece that named it keeps it (else the
   // one with more area there) and the other asks for its next; two surfaces of a frame never
-  // share one. A surface new to the frame
-  // carries its largest piece's id (its area; the lower id on a tie) that no other surface
-  // keeps, in the rare case none is left a number no plane or remembered surface has. Without
-  // memory each surface is named by its largest piece and a plane alone is its own surface:
-  // surface_id = id. `viewpoint` is the sensor's position in the planes' frame (the
-  // range of each piece) and `noise` its range noise; without either, the step and the up's
-  // error alone.
+  // share one. A surface new to the frame carries its largest piece's id (its area; the lower
+  // id on a tie) that no other surface keeps, in the rare case none is left a number no plane
+  // or remembered surface has. Without memory each surface is named by its largest piece and a
+  // plane alone is its own surface: surface_id = id. `viewpoint` is the sensor's position in
+  // the planes' frame (the range of each piece) and `noise` its range noise; without either,
+  // the step and the up's error alone.
   // `remember`: the planes' ids are persistent (a tracker's or a map's), and this frame's
-  // boxes and surface ids extend their extents and names for the frames to come; a stamp older than
-  // the last forgets every extent (a looping bag). Without it (a frame answered apart from the
-  // stream) the frame's own boxes alone decide, and nothing remembered changes.
+  // boxes and surface ids extend their extents and names for the frames to come; a stamp older
+  // than the last forgets every extent and name (a looping bag). Without it (a frame answered
+  // apart from the stream) the frame's own boxes alone decide, and nothing remembered changes.
   void assign(std::vector<HorizontalPlane>& planes, double stamp,
               const std::optional<Eigen::Vector3d>& viewpoint,
               const std::optional<RangeNoise>& noise, bool remember = true);

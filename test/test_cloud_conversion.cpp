@@ -333,6 +333,20 @@ TEST(FrameGaps, NothingIsCountedAcrossARestart) {
   EXPECT_EQ(gaps.dropped(), 0u);
 }
 
+// A cloud delivered twice (the frame and stamp of the last one accepted) is one frame: the repeat
+// is counted and skipped; the next stamp, or another sensor's frame at the same stamp, is new.
+TEST(RepeatedClouds, TheSameFrameAndStampAgainIsARepeat) {
+  hope_ros::RepeatedClouds repeated;
+  EXPECT_FALSE(repeated.repeat("camera_depth_optical_frame", 1300000000.033333));
+  EXPECT_TRUE(repeated.repeat("camera_depth_optical_frame", 1300000000.033333));
+  EXPECT_FALSE(repeated.repeat("camera_depth_optical_frame", 1300000000.066667));
+  EXPECT_TRUE(repeated.repeat("camera_depth_optical_frame", 1300000000.066667));
+  EXPECT_FALSE(repeated.repeat("second_camera", 1300000000.066667)) << "another sensor's frame";
+  EXPECT_FALSE(repeated.repeat("camera_depth_optical_frame", 1300000000.066667))
+      << "not the last one accepted";
+  EXPECT_EQ(repeated.count(), 2u);
+}
+
 namespace {
 
 hope::HorizontalPlane planeAt(int id, double x, double y, double height, double half_size) {

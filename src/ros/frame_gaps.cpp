@@ -39,6 +39,17 @@ std::size_t FrameGapCounter::arrive(std::uint32_t seq, double stamp) {
   return missing;
 }
 
+bool RepeatedClouds::repeat(const std::string& frame_id, double stamp) {
+  if (have_last_ && stamp == last_stamp_ && frame_id == last_frame_id_) {
+    ++count_;
+    return true;
+  }
+  have_last_ = true;
+  last_frame_id_ = frame_id;
+  last_stamp_ = stamp;
+  return false;
+}
+
 void FrameGapCounter::restart() {
   have_last_ = false;
   intervals_.clear();

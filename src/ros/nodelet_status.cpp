@@ -108,6 +108,7 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
   status.add("frames processed", c.frames);
   status.add("frames rejected", rejected_);
   status.add("frames dropped (gaps in seq or in the stamps)", gaps_.dropped());
+  status.add("clouds delivered twice (skipped)", repeated_.count());
   status.add("time jumps back (tracks restarted)", c.time_jumps);
   status.add("last processing ms", last_ms_);
   status.add("mean processing ms", c.frames ? sum_ms_ / c.frames : 0.0);

@@ -220,6 +220,11 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   const auto start = std::chrono::steady_clock::now();
   {
     std::lock_guard<std::mutex> lock(stats_mutex_);
+    if (repeated_.repeat(cloud->header.frame_id, cloud->header.stamp.toSec())) {
+      NODELET_WARN_THROTTLE(10.0, "hope: cloud of '%s' at %.6f delivered again: skipped",
+                            cloud->header.frame_id.c_str(), cloud->header.stamp.toSec());
+      return;
+    }
     gaps_.arrive(cloud->header.seq, cloud->header.stamp.toSec());
   }
   std::lock_guard<std::mutex> lock(processing_mutex_);

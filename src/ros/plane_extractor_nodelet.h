@@ -170,7 +170,8 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::mutex stats_mutex_;
   std::size_t rejected_ = 0, rejected_since_update_ = 0;
   double last_ms_ = 0, max_ms_ = 0, sum_ms_ = 0;
-  hope_ros::FrameGapCounter gaps_;  // frames that never reached hope
+  hope_ros::FrameGapCounter gaps_;     // frames that never reached hope
+  hope_ros::RepeatedClouds repeated_;  // clouds delivered twice, skipped
   hope::PipelineCounters counters_;
   std::optional<Eigen::Vector3d> smoothed_up_;
   std::string last_levelling_, last_level_problem_, last_problem_;

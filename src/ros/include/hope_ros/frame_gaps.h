@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <string>
 
 namespace hope_ros {
 
@@ -37,6 +38,25 @@ class FrameGapCounter {
   double last_stamp_ = 0;
   std::deque<double> intervals_;
   std::size_t dropped_ = 0;
+};
+
+// One measurement, one frame: a cloud of the frame and stamp of the last one accepted is that
+// cloud delivered again, not a new frame. A transport can deliver one message twice (seen on the
+// replay rostest, about one run in fifty: each depth frame reached hope twice through one
+// subscription, and hope published two PlaneArrays a frame); processed again, the tracker would
+// age every id twice and a recorder see the frame twice. ROS-free.
+class RepeatedClouds {
+ public:
+  // True when `frame_id` and `stamp` (seconds) are the last accepted cloud's: a repeat, counted
+  // in count(). Otherwise the cloud is accepted and remembered.
+  bool repeat(const std::string& frame_id, double stamp);
+  std::size_t count() const { return count_; }
+
+ private:
+  bool have_last_ = false;
+  std::string last_frame_id_;
+  double last_stamp_ = 0;
+  std::size_t count_ = 0;
 };
 
 }  // namespace hope_ros

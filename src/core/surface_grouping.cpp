@@ -63,7 +63,7 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
       recent_.pop_front();
     }
     for (const Seen& seen : recent_) {
-      for (const auto& [id, box] : seen.boxes) earlier[id].push_back(box);
+      for (const Piece& piece : seen.pieces) earlier[piece.id].push_back(piece.bbox);
     }
   }
   std::vector<std::vector<Box>> extent(n);
@@ -131,12 +131,10 @@ void SurfaceGrouping::assign(std::vector<HorizontalPlane>& planes, double stamp,
   const std::vector<int> names = nameSurfaces(planes, group, remember);
   for (std::size_t i = 0; i < n; ++i) planes[i].surface_id = names[group[i]];
   if (remember) {
-    Seen seen{stamp, {}, {}};
-    seen.boxes.reserve(n);
-    seen.surfaces.reserve(n);
+    Seen seen{stamp, {}};
+    seen.pieces.reserve(n);
     for (const HorizontalPlane& plane : planes) {
-      seen.boxes.emplace_back(plane.id, plane.bbox);
-      seen.surfaces.emplace_back(plane.id, plane.surface_id);
+      seen.pieces.push_back({plane.id, plane.bbox, plane.surface_id});
     }
     recent_.push_back(std::move(seen));
   }
@@ -151,7 +149,7 @@ std::vector<int> SurfaceGrouping::nameSurfaces(const std::vector<HorizontalPlane
   std::unordered_map<int, int> earlier_surface;
   if (remember) {
     for (const Seen& seen : recent_) {
-      for (const auto& [id, surface] : seen.surfaces) earlier_surface[id] = surface;
+      for (const Piece& piece : seen.pieces) earlier_surface[piece.id] = piece.surface_id;
     }
   }
   // What each group could keep: the surfaces its pieces belonged to, with the area of its

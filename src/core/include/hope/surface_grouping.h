@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <deque>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,10 +80,15 @@ class SurfaceGrouping {
   void reset() { recent_.clear(); }
 
  private:
+  // One plane of a frame remembered: where its id was, and the surface it was a piece of.
+  struct Piece {
+    int id;
+    std::array<double, 4> bbox;
+    int surface_id;
+  };
   struct Seen {
     double stamp;
-    std::vector<std::pair<int, std::array<double, 4>>> boxes;  // (id, bbox) of each plane
-    std::vector<std::pair<int, int>> surfaces;                 // (id, surface_id) of each plane
+    std::vector<Piece> pieces;
   };
   // The surface id of each group; `group[i]` is the index of plane i's group's largest piece.
   std::vector<int> nameSurfaces(const std::vector<HorizontalPlane>& planes,

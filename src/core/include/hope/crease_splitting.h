@@ -41,11 +41,12 @@ struct CreaseParams {
 };
 
 // Splits the objects of `object_of_point` (per point: an object index or -1) at their concave
-// creases, seen from `viewpoint` (the sensor, in the points' frame). On return it holds the
-// parts' indices, numbered in the order of their first point, and parent[k] says which object
-// part k was split from. Returns the number of parts. Objects are left whole when their
-// extent exceeds 65,000 patches along an axis (a kilometre scan) or there are more than
-// 65,000 of them.
+// creases, seen from `viewpoint` (the sensor, in the points' frame); a part that hangs on
+// another part of its object (a handle on its body: above the object's foot, beside the other
+// part and no higher) stays with it. On return it holds the parts' indices, numbered in the order
+// of their first point, and parent[k] says which object part k was split from. Returns the number
+// of parts. Objects are left whole when their extent exceeds 65,000 patches along an axis (a
+// kilometre scan) or there are more than 65,000 of them.
 std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vector3d& viewpoint,
                                   const CreaseParams& params,
                                   std::vector<std::int32_t>& object_of_point,

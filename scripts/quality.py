@@ -260,10 +260,12 @@ def raise_floors(path, figures):
     lines, raised = open(path).read().splitlines(keepends=True), 0
     for k, line in enumerate(lines):
         m = re.match(r'(\s*)(\S+)(\s*)(>=|<=)(\s*)(-?[0-9.]+(?:e-?\d+)?)(.*)', line, re.S)
-        if not m or not isinstance(figures.get(m.group(2)), float):
+        value = figures.get(m.group(2)) if m else None
+        # Counts computed here (objects a frame) are ints, the hope_quality figures floats.
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
             continue
         bound = float(m.group(6))
-        new = tightened(m.group(4), bound, m.group(2), figures[m.group(2)])
+        new = tightened(m.group(4), bound, m.group(2), float(value))
         if new != bound:
             lines[k] = ''.join(m.group(1, 2, 3, 4, 5)) + f'{new:g}' + m.group(7)
             print(f'quality: {m.group(2)} {m.group(4)} {bound:g} -> {new:g}', file=sys.stderr)

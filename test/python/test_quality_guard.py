@@ -97,6 +97,17 @@ class QualityGuard(unittest.TestCase):
             self.assertEqual(f.read(), '# kept\na.iou >= 0.947  # kept too\nb.noise <= 1\n'
                              'c.idf1 >= 70\nd.count <= 7\n')
 
+    def test_raise_tightens_counts_measured_as_ints_too(self):
+        # The objects a frame are counted in quality.py itself (ints), not read from a file.
+        import importlib.util
+        spec = importlib.util.spec_from_file_location('quality_guard', GUARD)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        floors = self.write('floors.txt', 'a.objects_per_frame.max <= 26\nb.flag <= 3\n')
+        module.raise_floors(floors, {'a.objects_per_frame.max': 21, 'b.flag': True})
+        with open(floors) as f:
+            self.assertEqual(f.read(), 'a.objects_per_frame.max <= 21\nb.flag <= 3\n')
+
     def test_without_data_the_synthetic_figures_are_guarded_and_the_rest_skipped(self):
         code, out, err = guard(data=os.path.join(self.tmp.name, 'no_data'))
         self.assertEqual(code, 0, out + err)

@@ -11,20 +11,38 @@
 
 namespace hope {
 
+// The stage's largest scratch vectors (a few MB each on a 640 × 480 frame) are kept by the
+// thread from one frame to the next (thread_local, cleared on use): freed, the allocator handed
+// their pages back to the system and the next frame faulted every 4 KiB of them in again, about
+// half the objects stage's time on the TUM frame on the virtual machines this was measured on
+// (docs/performance.md#objects). The callers' buffers that sortByKey swaps with are kept too.
+
 // Sorts (key, point) entries by key, points in their order among equal keys (they come in
-// point order): the order std::sort of the pairs gives, by four passes of 16 bits.
+// point order): the order std::sort of the pairs gives, by stable passes of 11 bits. The counts
+// of every digit come from one look at the entries, and a digit that all entries share (the
+// high bits of keys near one another) costs no pass. Small tables (2,048 counts a digit, not
+// 16 bits' 65,536) keep a pass over a few thousand cells from being one over its table.
 inline void sortByKey(std::vector<std::pair<std::uint64_t, std::uint32_t>>& entries) {
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(entries.size());
-  std::vector<std::size_t> start(65537);
-  for (int shift = 0; shift < 64; shift += 16) {
-    std::fill(start.begin(), start.end(), 0);
-    for (const auto& e : entries) ++start[((e.first >> shift) & 0xffff) + 1];
-    if (start[((entries.empty() ? 0 : entries.front().first >> shift) & 0xffff) + 1] ==
-        entries.size()) {
+  constexpr int kBits = 11;
+  constexpr int kDigits = (64 + kBits - 1) / kBits;
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << kBits) - 1;
+  std::vector<std::uint32_t> count(static_cast<std::size_t>(kDigits) << kBits, 0);
+  for (const auto& e : entries) {
+    for (int d = 0; d < kDigits; ++d)
+      ++count[(static_cast<std::size_t>(d) << kBits) + ((e.first >> (d * kBits)) & kMask)];
+  }
+  // Kept by the thread from call to call (see kReusedBuffers).
+  thread_local std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted;
+  for (int d = 0; d < kDigits; ++d) {
+    std::uint32_t* digit = count.data() + (static_cast<std::size_t>(d) << kBits);
+    if (entries.empty() ||
+        digit[(entries.front().first >> (d * kBits)) & kMask] == entries.size()) {
       continue;  // one digit for all: this pass would change nothing
     }
-    for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
-    for (const auto& e : entries) sorted[start[(e.first >> shift) & 0xffff]++] = e;
+    std::uint32_t next = 0;
+    for (std::uint64_t v = 0; v <= kMask; ++v) next += std::exchange(digit[v], next);
+    sorted.resize(entries.size());
+    for (const auto& e : entries) sorted[digit[(e.first >> (d * kBits)) & kMask]++] = e;
     entries.swap(sorted);
   }
 }

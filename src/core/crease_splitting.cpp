@@ -174,7 +174,11 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   // would hold a sliver of every thing's foot (on mosd_dev, starting the layers half a patch
   // lower took the weighted overlap from 0.959 to 0.949).
   constexpr float kLatticeNudge = 1.001f;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  // Kept from frame to frame (cell_keys.h); room for every point ahead: growing it point by
+  // point copied it several times over.
+  thread_local std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  keyed.clear();
+  keyed.reserve(object_of_point.size());
   for (std::size_t i = 0; i < object_of_point.size(); ++i) {
     if (object_of_point[i] < 0) continue;
     const Eigen::Vector3f q =
@@ -187,8 +191,15 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   }
   sortByKey(keyed);
   std::vector<std::uint64_t> keys;
-  std::vector<Patch> patches;
-  std::vector<std::uint32_t> patch_of_entry(keyed.size());
+  thread_local std::vector<Patch> patches;  // kept from frame to frame (cell_keys.h)
+  patches.clear();
+  std::size_t num_patches = keyed.empty() ? 0 : 1;
+  for (std::size_t e = 1; e < keyed.size(); ++e)
+    num_patches += keyed[e].first != keyed[e - 1].first;
+  keys.reserve(num_patches);
+  patches.reserve(num_patches);
+  thread_local std::vector<std::uint32_t> patch_of_entry;  // kept from frame to frame
+  patch_of_entry.resize(keyed.size());
   for (std::size_t e = 0; e < keyed.size(); ++e) {
     if (keys.empty() || keys.back() != keyed[e].first) {
       keys.push_back(keyed[e].first);
@@ -244,7 +255,8 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
     return std::fabs(meet.dot(step)) <= kSaneCos * meet.norm() * step.norm();
   };
   UnionFind parts(keys.size());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;
+  thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> adjacent;  // kept, too
+  adjacent.clear();
   for (int dx = 0; dx <= 1; ++dx) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dz = -1; dz <= 1; ++dz) {
@@ -434,7 +446,8 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   }
   // The parts' indices in the order of their first point.
   std::vector<std::int32_t> index_of_part(keys.size(), -1);
-  std::vector<std::uint32_t> patch_of_point(object_of_point.size());
+  thread_local std::vector<std::uint32_t> patch_of_point;  // kept from frame to frame
+  patch_of_point.resize(object_of_point.size());
   for (std::size_t e = 0; e < keyed.size(); ++e)
     patch_of_point[keyed[e].second] = patch_of_entry[e];
   for (std::size_t i = 0; i < object_of_point.size(); ++i) {

@@ -43,18 +43,29 @@ struct SurfaceGrid {
 };
 
 // The grid of `plane`: its bounding box on cells of r_z / 2 (coarser for a very large plane),
-// with a cell of border, both masks empty.
-SurfaceGrid emptyGrid(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin,
-                      const Params& params) {
-  SurfaceGrid grid;
+// with a cell of border, both masks empty. Its masks are the grid's own, or with `cells` given
+// (2 · rows · cols of gridSize, zeroed), headers over those.
+void gridSize(const HorizontalPlane& plane, const Params& params, double& cell, int& rows,
+              int& cols) {
   const double span = std::max(plane.bbox[2] - plane.bbox[0], plane.bbox[3] - plane.bbox[1]);
-  grid.cell = std::max(params.r_z / 2, span / (kMaxGridSide - 4));
+  cell = std::max(params.r_z / 2, span / (kMaxGridSide - 4));
+  cols = static_cast<int>(std::ceil((plane.bbox[2] - plane.bbox[0]) / cell)) + 3;
+  rows = static_cast<int>(std::ceil((plane.bbox[3] - plane.bbox[1]) / cell)) + 3;
+}
+SurfaceGrid emptyGrid(const HorizontalPlane& plane, const Eigen::Vector3d& local_origin,
+                      const Params& params, std::uint8_t* cells = nullptr) {
+  SurfaceGrid grid;
+  int rows = 0, cols = 0;
+  gridSize(plane, params, grid.cell, rows, cols);
   grid.x0 = plane.bbox[0] - local_origin.x() - grid.cell;
   grid.y0 = plane.bbox[1] - local_origin.y() - grid.cell;
-  const int cols = static_cast<int>(std::ceil((plane.bbox[2] - plane.bbox[0]) / grid.cell)) + 3;
-  const int rows = static_cast<int>(std::ceil((plane.bbox[3] - plane.bbox[1]) / grid.cell)) + 3;
-  grid.observed = cv::Mat::zeros(rows, cols, CV_8U);
-  grid.blocked = cv::Mat::zeros(rows, cols, CV_8U);
+  if (cells) {
+    grid.observed = cv::Mat(rows, cols, CV_8U, cells);
+    grid.blocked = cv::Mat(rows, cols, CV_8U, cells + static_cast<std::size_t>(rows) * cols);
+  } else {
+    grid.observed = cv::Mat::zeros(rows, cols, CV_8U);
+    grid.blocked = cv::Mat::zeros(rows, cols, CV_8U);
+  }
   return grid;
 }
 
@@ -69,12 +80,15 @@ bool cellOf(const SurfaceGrid& grid, const Eigen::Vector3f& q, int& row, int& co
 
 // Grows `standing` by the clearance, as a disc; a cell is blocked when any point within the
 // clearance of it stands there (plus half a cell for where in the cell the point lies).
-cv::Mat grownBy(const cv::Mat& standing, double clearance, double cell) {
+void grownInto(const cv::Mat& standing, double clearance, double cell, cv::Mat& grown) {
   const int radius = static_cast<int>(std::ceil(clearance / cell + 0.5));
-  cv::Mat grown;
   const cv::Mat disc =
       cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
   cv::dilate(standing, grown, disc);
+}
+cv::Mat grownBy(const cv::Mat& standing, double clearance, double cell) {
+  cv::Mat grown;
+  grownInto(standing, clearance, cell, grown);
   return grown;
 }
 
@@ -267,9 +281,23 @@ std::vector<double> freeAreas(const AlignedPoints& points,
   }
   // All planes in one pass over the points: a plane's own points are its observed cells, the
   // points of the objects standing on it the cells taken.
+  // The grids' masks (observed, blocked, blocked grown) in one buffer the thread keeps from
+  // frame to frame (as the objects' scratch, cell_keys.h): a street scan's road takes a grid of
+  // up to 2000 × 2000 cells, and fresh each frame its pages were faulted in again.
+  std::vector<std::size_t> first_cell(planes.size() + 1, 0);
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    double cell = 0;
+    int rows = 0, cols = 0;
+    if (carries(planes[p])) gridSize(planes[p], params, cell, rows, cols);
+    first_cell[p + 1] = first_cell[p] + 3 * static_cast<std::size_t>(rows) * cols;
+  }
+  thread_local std::vector<std::uint8_t> cells;
+  cells.assign(first_cell.back(), 0);
   std::vector<SurfaceGrid> grids(planes.size());
   for (std::size_t p = 0; p < planes.size(); ++p) {
-    if (carries(planes[p])) grids[p] = emptyGrid(planes[p], local_origin, params);
+    if (carries(planes[p])) {
+      grids[p] = emptyGrid(planes[p], local_origin, params, cells.data() + first_cell[p]);
+    }
   }
   int row = 0, col = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -289,8 +317,15 @@ std::vector<double> freeAreas(const AlignedPoints& points,
   std::vector<double> areas(planes.size(), 0.0);
   for (std::size_t p = 0; p < planes.size(); ++p) {
     if (grids[p].observed.empty()) continue;
-    grids[p].blocked = grownBy(grids[p].blocked, 0.0, grids[p].cell);
-    areas[p] = cv::countNonZero(grids[p].free()) * grids[p].cell * grids[p].cell;
+    const cv::Mat& observed = grids[p].observed;
+    const std::size_t size = observed.total();
+    cv::Mat grown(observed.rows, observed.cols, CV_8U, observed.data + 2 * size);
+    grownInto(grids[p].blocked, 0.0, grids[p].cell, grown);  // into its cells: no new buffer
+    const std::uint8_t* seen = observed.data;
+    const std::uint8_t* taken = grown.data;
+    std::size_t free_cells = 0;
+    for (std::size_t c = 0; c < size; ++c) free_cells += seen[c] && !taken[c];
+    areas[p] = static_cast<double>(free_cells) * grids[p].cell * grids[p].cell;
   }
   return areas;
 }

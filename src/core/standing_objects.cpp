@@ -571,7 +571,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     std::int16_t under_top;  // the tall top it rises under past max_height, or -1
     float noise;             // the sensor's range noise σ at the point (0 without a viewpoint)
   };
-  std::vector<ObjectPoint> candidates;
+  thread_local std::vector<ObjectPoint> candidates;  // kept from frame to frame (cell_keys.h)
+  candidates.clear();
   // A thing's foot: its points within the plane's margin or in the plane's own voxels, but
   // higher above it than three σ of the sensor's noise seen vertically (the plane's own
   // samples stay below that). They seed and join nothing (two things close together would
@@ -582,7 +583,11 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     std::uint32_t index;
     std::uint8_t support;
   };
-  std::vector<FootPoint> feet;
+  thread_local std::vector<FootPoint> feet;
+  feet.clear();
+  // Room for every point ahead: growing them point by point copied them several times over.
+  candidates.reserve(points.size());
+  feet.reserve(points.size());
   // Height above support s's fitted plane (its normal through its centroid), not its mean
   // height: a plane a little tilted in the frame (an up a fraction of a degree off) lies
   // millimetres above its mean height at its far side, and feet are millimetres high.
@@ -714,7 +719,9 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // insertions). A cell holding a point of this level joins its points and every point of the
   // cells around it; a cell of finer points alone joins nothing here (they touched at theirs).
   constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, candidate or cell)
+  // (cell key, candidate or cell), kept from frame to frame (cell_keys.h)
+  thread_local std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  keyed.clear();
   keyed.reserve(candidates.size());
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     std::uint64_t key;
@@ -726,7 +733,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   sortByKey(keyed);
   std::vector<std::uint64_t> fine_keys;
   std::vector<std::uint8_t> levels_in;  // per fine cell, bit l set when it holds a point of level l
-  std::vector<std::uint32_t> cell_of(candidates.size(), kNoCell);
+  thread_local std::vector<std::uint32_t> cell_of;  // kept from frame to frame (cell_keys.h)
+  cell_of.assign(candidates.size(), kNoCell);
   for (const auto& [key, k] : keyed) {
     if (fine_keys.empty() || fine_keys.back() != key) {
       fine_keys.push_back(key);
@@ -827,7 +835,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     Eigen::AlignedBox2f footprint;
     Eigen::Vector3f highest = Eigen::Vector3f::Zero();
   };
-  std::vector<Component> component(fine_keys.size());
+  thread_local std::vector<Component> component;  // kept from frame to frame (cell_keys.h)
+  component.resize(fine_keys.size());             // each gathering fills it anew
   const auto gatherComponents = [&] {
     std::fill(component.begin(), component.end(), Component());
     for (std::uint32_t k = 0; k < candidates.size(); ++k) {
@@ -961,6 +970,8 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     // Feet far from every object's lowest points (the plane's own noisy samples, most of them)
     // are passed over at once: only those in or beside an r_xy column holding some are looked at.
     std::vector<std::uint64_t> columns;
+    lowest.reserve(candidates.size());  // no more object points than candidates
+    columns.reserve(candidates.size());
     const auto columnOf = [&](const Eigen::Vector3f& q, int s) {
       std::uint64_t key = 0;
       cellKey(Eigen::Vector3f(q.x(), q.y(), 0), params.r_xy, s, key);
@@ -1000,7 +1011,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       keyed_foot[f] = nearColumn(columnOf(q, feet[f].support)) &&
                       cellKey(q, sample_cell[feet[f].support], feet[f].support, foot_key[f]);
     }
-    std::vector<std::pair<std::uint64_t, std::int32_t>> attached;
+    std::vector<std::pair<std::uint64_t, std::int32_t>> attached, attached_before;
     // At most a vertical cell down, in the finest cells: feet never creep along the plane.
     const int rounds = static_cast<int>(std::ceil(params.r_z / finest_cell));
     bool grew = true;
@@ -1011,13 +1022,18 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         // The objects whose lowest points share the cell with it, failing that touch it.
         std::int32_t object = -1;
         bool one = true;
-        const auto look = [&](std::uint64_t wanted) {
-          auto it = std::lower_bound(lowest.begin(), lowest.end(),
+        const auto lookIn = [&](const std::vector<std::pair<std::uint64_t, std::int32_t>>& cells,
+                                std::uint64_t wanted) {
+          auto it = std::lower_bound(cells.begin(), cells.end(),
                                      std::make_pair(wanted, std::int32_t{-1}));
-          for (; it != lowest.end() && it->first == wanted && one; ++it) {
+          for (; it != cells.end() && it->first == wanted && one; ++it) {
             one = object < 0 || object == it->second;
             object = it->second;
           }
+        };
+        const auto look = [&](std::uint64_t wanted) {
+          lookIn(lowest, wanted);
+          lookIn(attached_before, wanted);
         };
         look(foot_key[f]);
         for (int dx = -1; dx <= 1 && one && object < 0; ++dx) {
@@ -1035,10 +1051,13 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         }
       }
       grew = !attached.empty();
+      // Kept apart from the objects' lowest cells, far more: merging into those each round
+      // copied them all again.
       std::sort(attached.begin(), attached.end());
-      const auto middle = static_cast<std::ptrdiff_t>(lowest.size());
-      lowest.insert(lowest.end(), attached.begin(), attached.end());
-      std::inplace_merge(lowest.begin(), lowest.begin() + middle, lowest.end());
+      const auto middle = static_cast<std::ptrdiff_t>(attached_before.size());
+      attached_before.insert(attached_before.end(), attached.begin(), attached.end());
+      std::inplace_merge(attached_before.begin(), attached_before.begin() + middle,
+                         attached_before.end());
     }
   }
   result.objects.resize(object_plane.size());

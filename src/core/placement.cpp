@@ -292,7 +292,11 @@ std::vector<double> freeAreas(const AlignedPoints& points,
     first_cell[p + 1] = first_cell[p] + 3 * static_cast<std::size_t>(rows) * cols;
   }
   thread_local std::vector<std::uint8_t> cells;
-  cells.assign(first_cell.back(), 0);
+  cells.resize(first_cell.back());
+  for (std::size_t p = 0; p < planes.size(); ++p) {  // observed and blocked empty; grown is written
+    const std::size_t size = (first_cell[p + 1] - first_cell[p]) / 3;
+    std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(first_cell[p]), 2 * size, 0);
+  }
   std::vector<SurfaceGrid> grids(planes.size());
   for (std::size_t p = 0; p < planes.size(); ++p) {
     if (carries(planes[p])) {
@@ -321,11 +325,9 @@ std::vector<double> freeAreas(const AlignedPoints& points,
     const std::size_t size = observed.total();
     cv::Mat grown(observed.rows, observed.cols, CV_8U, observed.data + 2 * size);
     grownInto(grids[p].blocked, 0.0, grids[p].cell, grown);  // into its cells: no new buffer
-    const std::uint8_t* seen = observed.data;
-    const std::uint8_t* taken = grown.data;
-    std::size_t free_cells = 0;
-    for (std::size_t c = 0; c < size; ++c) free_cells += seen[c] && !taken[c];
-    areas[p] = static_cast<double>(free_cells) * grids[p].cell * grids[p].cell;
+    cv::bitwise_not(grown, grown);  // free: observed and not grown, in place
+    cv::bitwise_and(observed, grown, grown);
+    areas[p] = cv::countNonZero(grown) * grids[p].cell * grids[p].cell;
   }
   return areas;
 }

@@ -14,8 +14,9 @@ namespace hope {
 // The stage's largest scratch vectors (a few MB each on a 640 × 480 frame) are kept by the
 // thread from one frame to the next (thread_local, cleared on use): freed, the allocator handed
 // their pages back to the system and the next frame faulted every 4 KiB of them in again, about
-// half the objects stage's time on the TUM frame on the virtual machines this was measured on
-// (docs/performance.md#objects). The callers' buffers that sortByKey swaps with are kept too.
+// half the objects stage's time on the TUM frame in a process running hope alone on this
+// project's virtual machine (docs/performance.md#objects). The callers' buffers that sortByKey
+// swaps with are kept too.
 
 // Sorts (key, point) entries by key, points in their order among equal keys (they come in
 // point order): the order std::sort of the pairs gives, by stable passes of 11 bits. The counts
@@ -31,7 +32,7 @@ inline void sortByKey(std::vector<std::pair<std::uint64_t, std::uint32_t>>& entr
     for (int d = 0; d < kDigits; ++d)
       ++count[(static_cast<std::size_t>(d) << kBits) + ((e.first >> (d * kBits)) & kMask)];
   }
-  // Kept by the thread from call to call (see kReusedBuffers).
+  // Kept by the thread from call to call (see above).
   thread_local std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted;
   for (int d = 0; d < kDigits; ++d) {
     std::uint32_t* digit = count.data() + (static_cast<std::size_t>(d) << kBits);

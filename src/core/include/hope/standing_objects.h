@@ -42,7 +42,8 @@ struct StandingObjects {
 // aligned points' frame), points touch within a distance that grows with the sensor's noise at
 // their range, and objects that touch are split at the concave creases between them
 // (crease_splitting.h); without it the distance follows each plane's sample spacing alone and
-// touching objects stay one.
+// touching objects stay one. Threads may call it at once: each keeps its own scratch buffers
+// from call to call (cell_keys.h), and no call's result depends on an earlier one.
 StandingObjects findStandingObjects(const AlignedPoints& points,
                                     const std::vector<HorizontalPlane>& planes,
                                     const std::vector<std::int32_t>& point_labels,

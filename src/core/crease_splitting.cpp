@@ -318,12 +318,12 @@ std::size_t splitAtConcaveCreases(const AlignedPoints& points, const Eigen::Vect
   // convexly close by. Rows of sparse patches
   // between rows of flat ones (a noise-free camera's scanlines) would otherwise cut a box's top
   // into strips.
-  const double coplanar = std::sin(params.smooth_deg * M_PI / 180.0);
+  const double coplanar = std::sin(params.coplanar_deg * M_PI / 180.0);
   const auto meetAcross = [&](const Patch& p, const Patch& q, double patch) {
     const Eigen::Vector3d step = p.centroid - q.centroid;
-    // In one plane: the step between them runs along both within smooth_deg, and leaves each
-    // by at most two patch sides (the angle alone would let two parallel tops a few centimetres
-    // apart in height join across a long region).
+    // In one plane: normals within smooth_deg, the step between them running along both within
+    // coplanar_deg and leaving each by at most two patch sides (the angle alone would let two
+    // parallel tops a few centimetres apart in height join across a long region).
     const double off_plane = std::max(std::fabs(p.normal.dot(step)), std::fabs(q.normal.dot(step)));
     const bool one_plane = std::fabs(p.normal.dot(q.normal)) >= smooth &&
                            off_plane <= coplanar * step.norm() && off_plane <= 2 * patch;

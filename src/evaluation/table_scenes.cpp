@@ -24,12 +24,14 @@ LabelledTableScene loadLabelledTableScene(const std::string& path) {
   scene.cloud.is_dense = labelled.is_dense;
   scene.cloud.resize(labelled.size());
   scene.is_table.assign(labelled.size(), 0);
+  scene.labels.assign(labelled.size(), 0);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   std::size_t count = 0;
   for (std::size_t i = 0; i < labelled.size(); ++i) {
     const pcl::PointXYZL& p = labelled[i];
     scene.cloud[i].getVector3fMap() = p.getVector3fMap();
+    scene.labels[i] = p.label;
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
     if (p.label >= 1 && p.label <= 9) {
       scene.is_table[i] = 1;

@@ -19,6 +19,9 @@ struct LabelledTableScene {
   std::string name;                      // file name without extension
   pcl::PointCloud<pcl::PointXYZ> cloud;  // camera optical frame, organized, as recorded
   std::vector<std::uint8_t> is_table;    // per point: labelled 1–9 (one physical table top)
+  // Per point, the dataset's label: 0 none, 1–9 the table top, 10 and above a part of an object
+  // (mOSD: 20–29 the first object's parts, 30–39 the second's, ...).
+  std::vector<std::uint32_t> labels;
   // Up = the unit normal of a least-squares plane through the table points, oriented toward
   // the camera (the dataset records no orientation, and the table top is level). Rotation
   // only: the viewpoint is the camera at the origin.

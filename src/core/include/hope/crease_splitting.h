@@ -33,8 +33,8 @@ struct CreaseParams {
   // of the bend (a can's side, a bowl's inside), degrees. Patches of side s on a surface of
   // radius R differ by about s / R: 15° keeps a bowl or a cup of radius 4 patches (4 cm at
   // 1 m) whole on its concave inside, which 10° cut into pieces; the crease between two things
-  // that touch is far steeper (90° for two boxes). On mosd_dev, 10° → 15° → 20° (coplanar_deg
-  // 10°): weighted overlap 0.962 → 0.968 → 0.962 (docs/quality.md).
+  // that touch is far steeper (90° for two boxes). On mosd_dev, 10° → 12.5° → 15° → 20°
+  // (coplanar_deg 10°): weighted overlap 0.962 → 0.966 → 0.968 → 0.963 (docs/quality.md).
   double smooth_deg = 15.0;
   // Flat patches on either side of a region of patches that tell no normal are one surface
   // when they lie in one plane: normals within smooth_deg, and the step between them running

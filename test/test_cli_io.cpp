@@ -308,6 +308,27 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
     return frames;
   };
   EXPECT_EQ(checkLines(dir_ + "/s.jsonl", "scene"), 4);
+  // The summary's objects a frame are the lines' (median and most), in a room that holds things.
+  std::vector<int> objects_per_line;
+  {
+    std::istringstream lines(slurp(dir_ + "/s.jsonl"));
+    for (std::string line; std::getline(lines, line);) {
+      int count = 0;
+      for (std::size_t at = line.find("\"plane_id\""); at != std::string::npos;
+           at = line.find("\"plane_id\"", at + 1)) {
+        ++count;
+      }
+      objects_per_line.push_back(count);
+    }
+  }
+  ASSERT_EQ(objects_per_line.size(), 4u);
+  std::sort(objects_per_line.begin(), objects_per_line.end());
+  EXPECT_GT(objects_per_line.front(), 0);
+  std::ostringstream expected_objects;
+  expected_objects << "objects/frame median " << 0.5 * (objects_per_line[1] + objects_per_line[2])
+                   << " (max " << objects_per_line.back() << ")";
+  EXPECT_NE(sequence.output.find(expected_objects.str()), std::string::npos)
+      << expected_objects.str() << " in " << sequence.output;
   // With its poses and --level: each frame's pose refined (exact poses: nothing to correct).
   const CliRun refined_sequence =
       run("--sequence " + seq + " --groundtruth " + seq +

@@ -665,6 +665,7 @@ int runSequence(const Options& o) {
   Progress progress(listing.frames.size(), !o.flag("--quiet"));
   std::set<int> ids;
   std::size_t total_planes = 0, processed = 0, uncorrected = 0;
+  std::vector<std::size_t> objects_per_frame;  // when the outputs ask for objects
   std::string first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
   // What the outputs show: objects in the JSON lines and overlays, the points for overlays and
@@ -755,6 +756,9 @@ int runSequence(const Options& o) {
     if (extents) extents->addFrame(result.result, result.points, result.events);
     extract_ms += result.result.timings.total_ms;
     total_planes += result.result.planes.size();
+    if (wanted.objects && pipeline.options().objects) {
+      objects_per_frame.push_back(result.result.objects.size());
+    }
     for (const auto& p : result.result.planes) ids.insert(p.id);
     for (const auto& warning : result.result.warnings) summary.warn(file, warning);
 
@@ -811,6 +815,16 @@ int runSequence(const Options& o) {
     std::printf(", %s from the scene %.2f ms/frame",
                 plan.levelling == hope::SceneLevelling::kEstimate ? "levelling" : "refinement",
                 level_ms / n);
+  }
+  if (!objects_per_frame.empty()) {
+    // The median and the most: a room's count is read per frame, and a mean hides one frame
+    // that floods (docs/quality.md, objects a frame).
+    std::sort(objects_per_frame.begin(), objects_per_frame.end());
+    const std::size_t m = objects_per_frame.size();
+    const double median =
+        m % 2 ? static_cast<double>(objects_per_frame[m / 2])
+              : 0.5 * static_cast<double>(objects_per_frame[m / 2 - 1] + objects_per_frame[m / 2]);
+    std::printf(", objects/frame median %g (max %zu)", median, objects_per_frame.back());
   }
   const std::size_t skipped = summary.skippedFrames();
   std::printf("%s\n", skipped ? (", " + std::to_string(skipped) + " skipped").c_str() : "");

@@ -308,27 +308,6 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
     return frames;
   };
   EXPECT_EQ(checkLines(dir_ + "/s.jsonl", "scene"), 4);
-  // The summary's objects a frame are the lines' (median and most), in a room that holds things.
-  std::vector<int> objects_per_line;
-  {
-    std::istringstream lines(slurp(dir_ + "/s.jsonl"));
-    for (std::string line; std::getline(lines, line);) {
-      int count = 0;
-      for (std::size_t at = line.find("\"plane_id\""); at != std::string::npos;
-           at = line.find("\"plane_id\"", at + 1)) {
-        ++count;
-      }
-      objects_per_line.push_back(count);
-    }
-  }
-  ASSERT_EQ(objects_per_line.size(), 4u);
-  std::sort(objects_per_line.begin(), objects_per_line.end());
-  EXPECT_GT(objects_per_line.front(), 0);
-  std::ostringstream expected_objects;
-  expected_objects << "objects/frame median " << 0.5 * (objects_per_line[1] + objects_per_line[2])
-                   << " (max " << objects_per_line.back() << ")";
-  EXPECT_NE(sequence.output.find(expected_objects.str()), std::string::npos)
-      << expected_objects.str() << " in " << sequence.output;
   // With its poses and --level: each frame's pose refined (exact poses: nothing to correct).
   const CliRun refined_sequence =
       run("--sequence " + seq + " --groundtruth " + seq +
@@ -336,6 +315,37 @@ TEST_F(Cli, LevelFindsUpRefinesAGivenOneAndSpeaksUpWhenNoneIsGiven) {
   ASSERT_EQ(refined_sequence.exit_code, 0) << refined_sequence.output;
   EXPECT_NE(refined_sequence.output.find("refinement from the scene"), std::string::npos);
   EXPECT_EQ(checkLines(dir_ + "/r.jsonl", "refined"), 4);
+}
+
+// A sequence's summary line gives the objects a frame, median and most, as the JSON lines hold
+// them; a synthetic room that holds things has some in every frame.
+TEST_F(Cli, SequenceSummaryGivesTheObjectsAFrame) {
+  const std::string seq = dir_ + "/seq";
+  ASSERT_EQ(runTool(HOPE_SYNTH_BIN, "--out " + seq + " --sequence pan --frames 4").exit_code, 0);
+  const CliRun sequence = run("--sequence " + seq + " --quiet --jsonl " + dir_ + "/s.jsonl");
+  ASSERT_EQ(sequence.exit_code, 0) << sequence.output;
+  std::vector<int> objects_per_line;
+  std::istringstream lines(slurp(dir_ + "/s.jsonl"));
+  for (std::string line; std::getline(lines, line);) {
+    int count = 0;  // "plane_id" is an object's field alone
+    for (std::size_t at = line.find("\"plane_id\""); at != std::string::npos;
+         at = line.find("\"plane_id\"", at + 1)) {
+      ++count;
+    }
+    objects_per_line.push_back(count);
+  }
+  ASSERT_EQ(objects_per_line.size(), 4u);
+  std::sort(objects_per_line.begin(), objects_per_line.end());
+  EXPECT_GT(objects_per_line.front(), 0);
+  std::ostringstream expected;
+  expected << "objects/frame median " << 0.5 * (objects_per_line[1] + objects_per_line[2])
+           << " (max " << objects_per_line.back() << ")";
+  EXPECT_NE(sequence.output.find(expected.str()), std::string::npos)
+      << expected.str() << " in " << sequence.output;
+  // Without objects asked for (no --jsonl, no --overlay-dir) the line does not claim any.
+  const CliRun planes_only = run("--sequence " + seq + " --quiet");
+  ASSERT_EQ(planes_only.exit_code, 0) << planes_only.output;
+  EXPECT_EQ(planes_only.output.find("objects/frame"), std::string::npos) << planes_only.output;
 }
 
 // The LiDAR path a new user takes: hope_synth writes a VLP-16 scan as a driver would publish it

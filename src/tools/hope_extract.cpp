@@ -665,7 +665,7 @@ int runSequence(const Options& o) {
   Progress progress(listing.frames.size(), !o.flag("--quiet"));
   std::set<int> ids;
   std::size_t total_planes = 0, processed = 0, uncorrected = 0;
-  std::vector<std::size_t> objects_per_frame;  // when the outputs ask for objects
+  std::vector<double> objects_per_frame;  // when the outputs ask for objects
   std::string first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0;
   // What the outputs show: objects in the JSON lines and overlays, the points for overlays and
@@ -757,7 +757,7 @@ int runSequence(const Options& o) {
     extract_ms += result.result.timings.total_ms;
     total_planes += result.result.planes.size();
     if (wanted.objects && pipeline.options().objects) {
-      objects_per_frame.push_back(result.result.objects.size());
+      objects_per_frame.push_back(static_cast<double>(result.result.objects.size()));
     }
     for (const auto& p : result.result.planes) ids.insert(p.id);
     for (const auto& warning : result.result.warnings) summary.warn(file, warning);
@@ -819,12 +819,8 @@ int runSequence(const Options& o) {
   if (!objects_per_frame.empty()) {
     // The median and the most: a room's count is read per frame, and a mean hides one frame
     // that floods (docs/quality.md, objects a frame).
-    std::sort(objects_per_frame.begin(), objects_per_frame.end());
-    const std::size_t m = objects_per_frame.size();
-    const double median =
-        m % 2 ? static_cast<double>(objects_per_frame[m / 2])
-              : 0.5 * static_cast<double>(objects_per_frame[m / 2 - 1] + objects_per_frame[m / 2]);
-    std::printf(", objects/frame median %g (max %zu)", median, objects_per_frame.back());
+    std::printf(", objects/frame median %g (max %g)", hope::tools::median(objects_per_frame),
+                *std::max_element(objects_per_frame.begin(), objects_per_frame.end()));
   }
   const std::size_t skipped = summary.skippedFrames();
   std::printf("%s\n", skipped ? (", " + std::to_string(skipped) + " skipped").c_str() : "");

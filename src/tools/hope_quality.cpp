@@ -27,10 +27,12 @@
 #include "hope/synthetic/scene.h"
 #include "hope/synthetic/staircase.h"
 #include "hope/tools/cli.h"
+#include "hope/tools/report.h"
 #include "hope/up_estimation.h"
 
 namespace {
 
+using hope::tools::median;
 using hope::tools::ParsedArgs;
 
 hope::tools::CommandLine commandLine() {
@@ -63,12 +65,6 @@ void skipped(const std::string& name, const std::string& why) {
   std::printf("%s skipped\n", name.c_str());
   std::fflush(stdout);
   std::cerr << "hope_quality: " << name << " not measured: " << why << "\n";
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 // Hoover's counts (T = 0.8) of one extraction against the true plane of every point.

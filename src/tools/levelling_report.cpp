@@ -14,6 +14,7 @@
 #include "hope/evaluation/table_scenes.h"
 #include "hope/extractor.h"
 #include "hope/synthetic/scene.h"
+#include "hope/tools/report.h"
 #include "hope/up_estimation.h"
 
 namespace hope {
@@ -30,13 +31,6 @@ std::string fmt(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
   return text;
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return NAN;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 double worst(const std::vector<double>& values) {

@@ -1,5 +1,6 @@
 #include "hope/tools/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -241,6 +242,13 @@ void writeJson(std::ostream& out, const Result& result, const UpEstimate* levell
       << ", \"description\": " << number(t.description_ms)
       << ", \"merging\": " << number(t.merging_ms) << ", \"objects\": " << number(t.objects_ms)
       << ", \"total\": " << number(t.total_ms) << "}\n}\n";
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return NAN;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace tools

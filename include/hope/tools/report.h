@@ -48,5 +48,8 @@ std::string jsonString(const std::string& text);
 // round-trips, all 17 significant digits otherwise (1e45 included); never cut.
 std::string stampText(double stamp);
 
+// The middle value (the mean of the two middle ones for an even count); NaN for none.
+double median(std::vector<double> values);
+
 }  // namespace tools
 }  // namespace hope

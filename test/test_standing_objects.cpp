@@ -787,6 +787,35 @@ TEST(StandingObjects, ATablesFarLegsHiddenByItsTopAreTheTablesAndABottleUnderItI
   EXPECT_EQ(seen.falseObjects(), 0);
 }
 
+// A desk of two wings in an L (its top 0.75 m, on legs) seen from above its bay, where the
+// floor shows between the wings, and a low cabinet (0.64 m) under its far corner. Resting there
+// by a corner, the desk top would be the top of a thing standing on the cabinet, and none of it
+// a support. But the eye sees the floor through the space under the desk's outline, halfway
+// down to the cabinet, where such a thing would stand: the desk top is a surface, not an
+// object, and the box on it stands on it.
+TEST(StandingObjects, ADeskTopOverhangingALowerCabinetIsNoObject) {
+  synthetic::Scene scene;
+  scene.add<synthetic::Box>(V3(1.0, -1.0, -0.05), V3(1.8, -0.2, 0), 0);  // the floor in the bay
+  scene.add<synthetic::Box>(V3(1.0, -0.2, 0.72), V3(2.2, 0.6, 0.75), 1).thing = 0;
+  scene.add<synthetic::Box>(V3(1.8, -1.0, 0.72), V3(2.2, -0.2, 0.75), 1).thing = 0;
+  for (const V3& leg : {V3(1.02, 0.56, 0), V3(1.02, -0.18, 0), V3(1.82, -0.98, 0)}) {
+    scene.add<synthetic::Box>(leg, leg + V3(0.03, 0.03, 0.72), synthetic::kNoPlane).thing = 0;
+  }
+  scene.add<synthetic::Box>(V3(1.9, 0.4, 0), V3(2.6, 1.1, 0.64), 2).thing = 1;
+  const V3 box_at(1.4, 0.2, 0);
+  scene.add<synthetic::Box>(box_at + V3(-0.1, -0.1, 0.75), box_at + V3(0.1, 0.1, 0.85), 3).thing =
+      2;
+  const RenderedScene seen(scene,
+                           synthetic::Camera::lookingAt(V3(1.4, -0.7, 1.9), V3(1.7, 0.1, 0.6)));
+  const int desk = planeNear(seen.result, 0.75, 0.01);
+  ASSERT_GE(desk, 0) << describe(seen.result);
+  EXPECT_LT(seen.largestShare(0), 0.05) << objectsOf(seen.result);
+  int box = -1;
+  EXPECT_GT(seen.largestShare(2, &box), 0.9) << objectsOf(seen.result);
+  ASSERT_GE(box, 0);
+  EXPECT_EQ(seen.result.objects[box].plane_index, desk) << objectsOf(seen.result);
+}
+
 // The demo room's furniture alone: a block of two stair treads (0.17 and 0.34 m) behind a table
 // and a low cabinet, which hide most of the riser between the treads. Its end seen apart, past
 // the table's far corner, rises from the lower tread to the upper one: the block's. One object

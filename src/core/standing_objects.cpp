@@ -406,6 +406,57 @@ bool standsOver(const SupportArea& area, const Eigen::Vector3d& centre,
   return false;
 }
 
+// Whether the eye sees at least `enough` points through the space under `hull` (a plane's
+// convex hull, counter-clockwise, relative to the local origin) at `height`, at least `inset`
+// inside its edges: their rays cross that height there, and they lie past it by more than
+// their noise (`margin` at least), so that the top's own samples do not count. Something whose
+// top the hull is, standing on a plane below `height`, would fill that space, and no ray would
+// pass it.
+bool seenThroughUnder(const AlignedPoints& points, const std::vector<Eigen::Vector3d>& hull,
+                      const Eigen::Vector3d& local_origin, double height, double inset,
+                      const Eigen::Vector3f& eye, const RangeNoise& noise, double margin,
+                      std::size_t enough) {
+  if (hull.size() < 3) return false;
+  std::vector<Eigen::Vector2d> corner(hull.size());
+  Eigen::AlignedBox2d box;
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    corner[k] = (hull[k] - local_origin).head<2>();
+    box.extend(corner[k]);
+  }
+  const auto inside = [&](const Eigen::Vector2d& x) {
+    if (!box.contains(x)) return false;
+    for (std::size_t k = 0; k < corner.size(); ++k) {
+      const Eigen::Vector2d edge = corner[(k + 1) % corner.size()] - corner[k];
+      const Eigen::Vector2d to_x = x - corner[k];
+      const double length = edge.norm();
+      if (length > 0 && (edge.x() * to_x.y() - edge.y() * to_x.x()) < inset * length) return false;
+    }
+    return true;
+  };
+  const double eye_above = eye.z() - height;
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f q = points[i];
+    const double q_above = q.z() - height;
+    if (!(eye_above * q_above < 0) || !q.allFinite()) continue;  // the ray does not cross it
+    // The crossing x = eye + (eye_above / w) (q − eye), w = eye_above − q_above, tested
+    // against the hull's box times |w| first: no division for the many rays that miss it.
+    const double w = std::fabs(eye_above - q_above);
+    const double sign = eye_above > 0 ? 1.0 : -1.0;
+    const Eigen::Vector2d x_w = eye.head<2>().cast<double>() * w +
+                                sign * eye_above * (q.head<2>() - eye.head<2>()).cast<double>();
+    if ((x_w.array() < box.min().array() * w).any() ||
+        (x_w.array() > box.max().array() * w).any() || !inside(x_w / w)) {
+      continue;
+    }
+    const Eigen::Vector3f ray = q - eye;
+    const double range = ray.norm();
+    const double vertical = range > 0 ? 3 * noise.at(range) * std::fabs(ray.z()) / range : 0.0;
+    if (std::fabs(q_above) > std::max(margin, vertical) && ++seen >= enough) return true;
+  }
+  return false;
+}
+
 // Objects that a split or a join left with fewer than `least` points are noise: their points
 // go back to no object, and the others are numbered afresh in the order of their first point.
 void dropSmallObjects(std::size_t least, std::vector<std::int32_t>& object_of_point,
@@ -435,6 +486,9 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   }
   StandingObjects result;
   result.point_objects.assign(points.size(), -1);
+  const RangeNoise noise = object_params.noise.value_or(RangeNoise::depthCamera());
+  std::optional<Eigen::Vector3f> eye;
+  if (viewpoint) eye = viewpoint->cast<float>();
   // Planes that can carry things, highest first: a point belongs to the highest one below it.
   std::vector<int> supports;
   for (std::size_t p = 0; p < planes.size() && supports.size() < kMaxSupportPlanes; ++p) {
@@ -497,10 +551,21 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         if (above <= margin) continue;
         if (above > max_top_height) break;
         const auto& corners = pass == 0 ? std::vector<Eigen::Vector3d>() : top.hull;
-        if (standsOver(areas[lower], c, corners, local_origin)) {
-          stands_on = static_cast<int>(lower);
-          break;
+        if (!standsOver(areas[lower], c, corners, local_origin)) continue;
+        // By a corner alone, the top might rest there, or overhang a lower surface that runs
+        // on under it (a desk top over a lower cabinet, the floor in the bay of an L-shaped
+        // desk): the eye seeing through the space under its hull, halfway down, tells the
+        // second. As many rays as an object's least points are the evidence; the tops that
+        // rest (a stair block's upper tread, a cabinet's top) let none through.
+        if (pass == 1 && eye) {
+          const double inset = std::max(params.r_xy, 3 * noise.at((c.cast<float>() - *eye).norm()));
+          if (seenThroughUnder(points, top.hull, local_origin, c.z() - above / 2, inset, *eye,
+                               noise, margin, object_params.min_points)) {
+            continue;
+          }
         }
+        stands_on = static_cast<int>(lower);
+        break;
       }
     }
     if (stands_on < 0) continue;
@@ -550,9 +615,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
         plane.num_points > 0 ? std::sqrt(plane.area / static_cast<double>(plane.num_points)) : 0.0;
     sample_cell[s] = std::max(finest_cell, 2 * spacing);
   }
-  const RangeNoise noise = object_params.noise.value_or(RangeNoise::depthCamera());
-  std::optional<Eigen::Vector3f> eye;
-  if (viewpoint) eye = viewpoint->cast<float>();
   // The level whose cells are at least `cell` on support s's grid (the nearest power of two).
   const auto levelOf = [&](std::size_t s, double cell) {
     if (!(cell > sample_cell[s])) return std::uint8_t{0};

@@ -472,32 +472,61 @@ void dropSmallObjects(std::size_t least, std::vector<std::int32_t>& object_of_po
   object_plane = picked(object_plane, renumberObjects(target, object_of_point));
 }
 
-}  // namespace
+// The planes that can carry things, highest first (a point belongs to the highest one below
+// it): where each can carry, which stand on which as a thing's top, and each one's cells.
+struct Supports {
+  std::vector<int> plane;     // support s's plane index
+  std::vector<int> of_plane;  // plane p's support, or -1
+  std::vector<SupportArea> areas;
+  std::vector<std::uint8_t> raised;    // per plane: the top of a thing on a lower plane
+  std::vector<std::uint8_t> carrying;  // per support: large enough to carry things
+  std::vector<int> stands_on;          // the support a raised plane's on, or -1
+  std::vector<int> tall_top_over;      // the support a tall thing's top stands on, or -1
+  std::vector<double> local_height;    // relative to the local origin
+  std::vector<double> sample_cell;     // the finest cell of the objects on it
+};
 
-StandingObjects findStandingObjects(const AlignedPoints& points,
-                                    const std::vector<HorizontalPlane>& planes,
-                                    const std::vector<std::int32_t>& point_labels,
-                                    const Eigen::Vector3d& local_origin, const Params& params,
-                                    const ObjectParams& object_params,
-                                    const std::optional<Eigen::Vector3d>& viewpoint) {
-  validate(object_params);
-  if (point_labels.size() != points.size()) {
-    throw std::invalid_argument("findStandingObjects: one plane label per point is needed");
-  }
-  StandingObjects result;
-  result.point_objects.assign(points.size(), -1);
-  const RangeNoise noise = object_params.noise.value_or(RangeNoise::depthCamera());
-  std::optional<Eigen::Vector3f> eye;
-  if (viewpoint) eye = viewpoint->cast<float>();
+// The object points: each with its support, its level, and whether it seeds objects.
+// Points over a plane's area seed its objects; points beside it at object height (the part
+// of a box that overhangs the edge) join an object only through the cells they touch.
+struct ObjectPoint {
+  std::uint32_t index;
+  std::uint8_t support;
+  std::uint8_t level;
+  bool seed;
+  std::int16_t under_top;  // the tall top it rises under past max_height, or -1
+  float noise;             // the sensor's range noise σ at the point (0 without a viewpoint)
+};
+
+// A thing's foot: its points within the plane's margin or in the plane's own voxels, but
+// higher above it than three σ of the sensor's noise seen vertically (the plane's own
+// samples stay below that). They seed and join nothing (two things close together would
+// touch through them); once the objects are found, each goes to the one object whose lowest
+// points touch it (see the feet after the crease split). Only with a known sensor position,
+// which σ needs.
+struct FootPoint {
+  std::uint32_t index;
+  std::uint8_t support;
+};
+
+// The supports, their areas (what is seen below each marks where it is not), the planes that
+// stand on a lower one as a thing's top, and the cells their objects are found on.
+Supports findSupports(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
+                      const std::vector<std::int32_t>& point_labels,
+                      const Eigen::Vector3d& local_origin, const Params& params,
+                      const ObjectParams& object_params, const RangeNoise& noise,
+                      const std::optional<Eigen::Vector3f>& eye, double margin) {
+  Supports found;
+  std::vector<int>& supports = found.plane;
+  std::vector<SupportArea>& areas = found.areas;
+  std::vector<int>& support_of_plane = found.of_plane;
+  support_of_plane.assign(planes.size(), -1);
   // Planes that can carry things, highest first: a point belongs to the highest one below it.
-  std::vector<int> supports;
   for (std::size_t p = 0; p < planes.size() && supports.size() < kMaxSupportPlanes; ++p) {
     if (planes[p].facing != Facing::kDown) supports.push_back(static_cast<int>(p));
   }
   std::sort(supports.begin(), supports.end(),
             [&](int a, int b) { return planes[a].height > planes[b].height; });
-  std::vector<SupportArea> areas;
-  std::vector<int> support_of_plane(planes.size(), -1);
   for (std::size_t s = 0; s < supports.size(); ++s) {
     areas.emplace_back(planes[supports[s]], local_origin, params.r_xy);
     support_of_plane[supports[s]] = static_cast<int>(s);
@@ -523,9 +552,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   }
   for (SupportArea& area : areas) area.finish();
 
-  // Above the plane by more than half a vertical cell: the plane's own points (its noise, a
-  // sheet of paper) stay below that; below max_height.
-  const double margin = params.r_z / 2;
   // A plane that itself stands on a lower one (a box's top, a book, a chair's seat on the
   // floor) is also the top of an object there: its points are object points too, and it still
   // carries what stands on it. One higher than max_height (a cabinet's, a table's) is a tall
@@ -535,9 +561,14 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // in two; a book or a box top that carries a cup is larger.
   const double least_carrying_area = 8 * params.r_xy * params.r_xy;
   const double max_top_height = std::max(object_params.max_top_height, object_params.max_height);
-  std::vector<std::uint8_t> raised(planes.size(), 0), carrying(supports.size(), 1);
-  std::vector<int> stands_on_support(supports.size(), -1);  // the support a raised plane's on
-  std::vector<int> tall_top_over(supports.size(), -1);      // the support a tall top stands on
+  std::vector<std::uint8_t>& raised = found.raised;
+  std::vector<std::uint8_t>& carrying = found.carrying;
+  std::vector<int>& stands_on_support = found.stands_on;
+  std::vector<int>& tall_top_over = found.tall_top_over;
+  raised.assign(planes.size(), 0);
+  carrying.assign(supports.size(), 1);
+  stands_on_support.assign(supports.size(), -1);
+  tall_top_over.assign(supports.size(), -1);
   for (std::size_t s = 0; s < supports.size(); ++s) {
     const HorizontalPlane& top = planes[supports[s]];
     const Eigen::Vector3d c = top.centroid - local_origin;
@@ -583,10 +614,49 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   for (std::size_t s = 0; s < supports.size(); ++s) {
     if (raised[supports[s]]) areas[s].tightenTo(planes[supports[s]], local_origin, margin);
   }
-  std::vector<double> local_height(supports.size());
+  std::vector<double>& local_height = found.local_height;
+  local_height.resize(supports.size());
   for (std::size_t s = 0; s < supports.size(); ++s) {
     local_height[s] = planes[supports[s]].height - local_origin.z();
   }
+  // Points touch within a distance that follows the data. The finest is a cell of r_z / 4
+  // (5 mm: two Kinect samples at 1.5 m, so objects a centimetre apart stay apart). Where the
+  // plane's own samples are sparser (farther away, a LiDAR), cells are twice their spacing, so
+  // that an object is not shattered into its samples. And with a known viewpoint, cells are at
+  // least twice the sensor's range noise at the point: neighbouring samples of one surface lie
+  // about √2 σ apart along the ray (26 mm at 4 m for a Kinect), and a finer grid would cut a
+  // far chair into its samples. Cells come in levels of the plane's finest cell · 2^level;
+  // points of one level touch on its grid, and a coarser point reaches the finer points in its
+  // cell's neighbours.
+  const double finest_cell = params.r_z / 4;
+  std::vector<double>& sample_cell = found.sample_cell;
+  sample_cell.resize(supports.size());
+  for (std::size_t s = 0; s < supports.size(); ++s) {
+    const HorizontalPlane& plane = planes[supports[s]];
+    const double spacing =
+        plane.num_points > 0 ? std::sqrt(plane.area / static_cast<double>(plane.num_points)) : 0.0;
+    sample_cell[s] = std::max(finest_cell, 2 * spacing);
+  }
+  return found;
+}
+
+// The object points over the supports (`candidates`) and the feet of things (`feet`).
+void classifyPoints(const AlignedPoints& points, const std::vector<HorizontalPlane>& planes,
+                    const std::vector<std::int32_t>& point_labels,
+                    const Eigen::Vector3d& local_origin, const ObjectParams& object_params,
+                    const RangeNoise& noise, const std::optional<Eigen::Vector3f>& eye,
+                    double margin, const Supports& found, std::vector<ObjectPoint>& candidates,
+                    std::vector<FootPoint>& feet) {
+  const std::vector<int>& supports = found.plane;
+  const std::vector<int>& support_of_plane = found.of_plane;
+  const std::vector<SupportArea>& areas = found.areas;
+  const std::vector<std::uint8_t>& raised = found.raised;
+  const std::vector<std::uint8_t>& carrying = found.carrying;
+  const std::vector<int>& stands_on_support = found.stands_on;
+  const std::vector<int>& tall_top_over = found.tall_top_over;
+  const std::vector<double>& local_height = found.local_height;
+  const std::vector<double>& sample_cell = found.sample_cell;
+  const double max_top_height = std::max(object_params.max_top_height, object_params.max_height);
   // The tall thing's top standing on support s that q is under (no higher than the top), or -1.
   const auto underTallTop = [&](std::size_t s, const Eigen::Vector3f& q) {
     for (std::size_t t = 0; t < s; ++t) {
@@ -598,23 +668,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     return -1;
   };
 
-  // Points touch within a distance that follows the data. The finest is a cell of r_z / 4
-  // (5 mm: two Kinect samples at 1.5 m, so objects a centimetre apart stay apart). Where the
-  // plane's own samples are sparser (farther away, a LiDAR), cells are twice their spacing, so
-  // that an object is not shattered into its samples. And with a known viewpoint, cells are at
-  // least twice the sensor's range noise at the point: neighbouring samples of one surface lie
-  // about √2 σ apart along the ray (26 mm at 4 m for a Kinect), and a finer grid would cut a
-  // far chair into its samples. Cells come in levels of the plane's finest cell · 2^level;
-  // points of one level touch on its grid, and a coarser point reaches the finer points in its
-  // cell's neighbours.
-  const double finest_cell = params.r_z / 4;
-  std::vector<double> sample_cell(supports.size());
-  for (std::size_t s = 0; s < supports.size(); ++s) {
-    const HorizontalPlane& plane = planes[supports[s]];
-    const double spacing =
-        plane.num_points > 0 ? std::sqrt(plane.area / static_cast<double>(plane.num_points)) : 0.0;
-    sample_cell[s] = std::max(finest_cell, 2 * spacing);
-  }
   // The level whose cells are at least `cell` on support s's grid (the nearest power of two).
   const auto levelOf = [&](std::size_t s, double cell) {
     if (!(cell > sample_cell[s])) return std::uint8_t{0};
@@ -622,31 +675,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     return static_cast<std::uint8_t>(std::clamp(level, 0L, static_cast<long>(kLevels - 1)));
   };
 
-  // The object points: each with its support, its level, and whether it seeds objects.
-  // Points over a plane's area seed its objects; points beside it at object height (the part
-  // of a box that overhangs the edge) join an object only through the cells they touch.
-  struct ObjectPoint {
-    std::uint32_t index;
-    std::uint8_t support;
-    std::uint8_t level;
-    bool seed;
-    std::int16_t under_top;  // the tall top it rises under past max_height, or -1
-    float noise;             // the sensor's range noise σ at the point (0 without a viewpoint)
-  };
-  thread_local std::vector<ObjectPoint> candidates;  // kept from frame to frame (cell_keys.h)
-  candidates.clear();
-  // A thing's foot: its points within the plane's margin or in the plane's own voxels, but
-  // higher above it than three σ of the sensor's noise seen vertically (the plane's own
-  // samples stay below that). They seed and join nothing (two things close together would
-  // touch through them); once the objects are found, each goes to the one object whose lowest
-  // points touch it (see the feet after the crease split). Only with a known sensor position,
-  // which σ needs.
-  struct FootPoint {
-    std::uint32_t index;
-    std::uint8_t support;
-  };
-  thread_local std::vector<FootPoint> feet;
-  feet.clear();
   // Room for every point ahead: growing them point by point copied them several times over.
   candidates.reserve(points.size());
   feet.reserve(points.size());
@@ -771,16 +799,24 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
                           over >= 0 && !in_plane_voxels, static_cast<std::int16_t>(under_top),
                           static_cast<float>(sigma)});
   }
+}
 
-  // Cells that touch (26-neighbourhood) on the same plane are one object, level by level.
-  // First each point's cell on its plane's finest grid: every point of such a cell ends in one
-  // object (at its coarsest point's level the cell is joined whole), so the levels work on
-  // these cells, far fewer than the points, and a coarser cell's key is the finer one's with
-  // each coordinate halved per level. At each level the cells are sorted by key, where the
-  // neighbours are found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many
-  // insertions). A cell holding a point of this level joins its points and every point of the
-  // cells around it; a cell of finer points alone joins nothing here (they touched at theirs).
-  constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
+// No fine cell: a candidate whose cell key would overflow.
+constexpr std::uint32_t kNoCell = std::numeric_limits<std::uint32_t>::max();
+
+// Cells that touch (26-neighbourhood) on the same plane are one object, level by level.
+// First each point's cell on its plane's finest grid: every point of such a cell ends in one
+// object (at its coarsest point's level the cell is joined whole), so the levels work on
+// these cells, far fewer than the points, and a coarser cell's key is the finer one's with
+// each coordinate halved per level. At each level the cells are sorted by key, where the
+// neighbours are found by sweeps (no hash table: sorting 10^5 keys is cheaper than as many
+// insertions). A cell holding a point of this level joins its points and every point of the
+// cells around it; a cell of finer points alone joins nothing here (they touched at theirs).
+// Candidate k's fine cell goes to cell_of[k] (kNoCell for none); the fine cells' union-find
+// is returned.
+UnionFind joinTouchingCells(const AlignedPoints& points, const std::vector<ObjectPoint>& candidates,
+                            const std::vector<double>& sample_cell,
+                            std::vector<std::uint32_t>& cell_of) {
   // (cell key, candidate or cell), kept from frame to frame (cell_keys.h)
   thread_local std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   keyed.clear();
@@ -795,7 +831,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   sortByKey(keyed);
   std::vector<std::uint64_t> fine_keys;
   std::vector<std::uint8_t> levels_in;  // per fine cell, bit l set when it holds a point of level l
-  thread_local std::vector<std::uint32_t> cell_of;  // kept from frame to frame (cell_keys.h)
   cell_of.assign(candidates.size(), kNoCell);
   for (const auto& [key, k] : keyed) {
     if (fine_keys.empty() || fine_keys.back() != key) {
@@ -861,6 +896,48 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
       }
     }
   }
+  return components;
+}
+
+}  // namespace
+
+StandingObjects findStandingObjects(const AlignedPoints& points,
+                                    const std::vector<HorizontalPlane>& planes,
+                                    const std::vector<std::int32_t>& point_labels,
+                                    const Eigen::Vector3d& local_origin, const Params& params,
+                                    const ObjectParams& object_params,
+                                    const std::optional<Eigen::Vector3d>& viewpoint) {
+  validate(object_params);
+  if (point_labels.size() != points.size()) {
+    throw std::invalid_argument("findStandingObjects: one plane label per point is needed");
+  }
+  StandingObjects result;
+  result.point_objects.assign(points.size(), -1);
+  const RangeNoise noise = object_params.noise.value_or(RangeNoise::depthCamera());
+  std::optional<Eigen::Vector3f> eye;
+  if (viewpoint) eye = viewpoint->cast<float>();
+  // Above the plane by more than half a vertical cell: the plane's own points (its noise, a
+  // sheet of paper) stay below that; below max_height.
+  const double margin = params.r_z / 2;
+  const Supports found = findSupports(points, planes, point_labels, local_origin, params,
+                                      object_params, noise, eye, margin);
+  const std::vector<int>& supports = found.plane;
+  const std::vector<int>& support_of_plane = found.of_plane;
+  const std::vector<SupportArea>& areas = found.areas;
+  const std::vector<std::uint8_t>& raised = found.raised;
+  const std::vector<int>& tall_top_over = found.tall_top_over;
+  const std::vector<double>& local_height = found.local_height;
+  const std::vector<double>& sample_cell = found.sample_cell;
+  const double finest_cell = params.r_z / 4;         // the finest object cell (findSupports)
+  thread_local std::vector<ObjectPoint> candidates;  // kept from frame to frame (cell_keys.h)
+  candidates.clear();
+  thread_local std::vector<FootPoint> feet;
+  feet.clear();
+  classifyPoints(points, planes, point_labels, local_origin, object_params, noise, eye, margin,
+                 found, candidates, feet);
+
+  thread_local std::vector<std::uint32_t> cell_of;  // kept from frame to frame (cell_keys.h)
+  UnionFind components = joinTouchingCells(points, candidates, sample_cell, cell_of);
 
   // What rises past max_height under a tall thing's top is that thing's (a table's leg whose
   // top the table's edge hides), whether or not the points between are seen.
@@ -898,7 +975,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     Eigen::Vector3f highest = Eigen::Vector3f::Zero();
   };
   thread_local std::vector<Component> component;  // kept from frame to frame (cell_keys.h)
-  component.resize(fine_keys.size());             // each gathering fills it anew
+  component.resize(components.parent.size());     // each gathering fills it anew
   const auto gatherComponents = [&] {
     std::fill(component.begin(), component.end(), Component());
     for (std::uint32_t k = 0; k < candidates.size(); ++k) {
@@ -970,7 +1047,7 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   // Objects in the order of their first point. What rises to max_height with no top of its
   // own was cut there: the foot of a wall, a partition, a pillar, not a thing on the plane.
   const double structure_height = object_params.max_height - params.r_z;
-  std::vector<std::int32_t> object_of_component(fine_keys.size(), -1);
+  std::vector<std::int32_t> object_of_component(components.parent.size(), -1);
   std::vector<int> object_plane;     // the plane index each object stands on
   std::vector<double> object_patch;  // the crease split's patch for each
   std::vector<std::uint8_t> joined_across_gap;

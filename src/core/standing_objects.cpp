@@ -899,6 +899,159 @@ UnionFind joinTouchingCells(const AlignedPoints& points, const std::vector<Objec
   return components;
 }
 
+// Each foot point goes to the object whose lowest points (up to a vertical cell and two of
+// its plane's finest cells above the plane) share its cell on its plane's finest grid, or
+// failing that touch it, when exactly one object's do; then the feet next to those, and so
+// on down, a vertical cell at most (a thing's lowest points may lie in the plane's voxels,
+// a few cells below the lowest that was not the plane's).
+void attachFeet(const AlignedPoints& points, const std::vector<FootPoint>& feet,
+                std::size_t object_points, const Supports& found,
+                const std::vector<int>& object_plane, const Params& params,
+                std::vector<std::int32_t>& point_objects) {
+  if (feet.empty() || object_plane.empty()) return;
+  const std::vector<int>& support_of_plane = found.of_plane;
+  const std::vector<double>& local_height = found.local_height;
+  const std::vector<double>& sample_cell = found.sample_cell;
+  const double finest_cell = params.r_z / 4;  // the finest object cell (findSupports)
+  std::vector<std::pair<std::uint64_t, std::int32_t>> lowest;  // (cell key, object)
+  // Feet far from every object's lowest points (the plane's own noisy samples, most of them)
+  // are passed over at once: only those in or beside an r_xy column holding some are looked at.
+  std::vector<std::uint64_t> columns;
+  lowest.reserve(object_points);  // at most the candidates
+  columns.reserve(object_points);
+  const auto columnOf = [&](const Eigen::Vector3f& q, int s) {
+    std::uint64_t key = 0;
+    cellKey(Eigen::Vector3f(q.x(), q.y(), 0), params.r_xy, s, key);
+    return key;
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::int32_t o = point_objects[i];
+    if (o < 0) continue;
+    const int s = support_of_plane[object_plane[o]];
+    if (s < 0) continue;
+    const Eigen::Vector3f q = points[i];
+    std::uint64_t key;
+    if (q.z() - local_height[s] <= params.r_z + 2 * sample_cell[s] &&
+        cellKey(q, sample_cell[s], s, key)) {
+      lowest.emplace_back(key, o);
+      columns.push_back(columnOf(q, s));
+    }
+  }
+  std::sort(lowest.begin(), lowest.end());
+  lowest.erase(std::unique(lowest.begin(), lowest.end()), lowest.end());
+  std::sort(columns.begin(), columns.end());
+  columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+  const auto nearColumn = [&](std::uint64_t column) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        if (std::binary_search(columns.begin(), columns.end(), neighbourKey(column, dx, dy, 0))) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  std::vector<std::uint64_t> foot_key(feet.size());
+  std::vector<std::uint8_t> keyed_foot(feet.size(), 0);
+  for (std::size_t f = 0; f < feet.size(); ++f) {
+    const Eigen::Vector3f q = points[feet[f].index];
+    keyed_foot[f] = nearColumn(columnOf(q, feet[f].support)) &&
+                    cellKey(q, sample_cell[feet[f].support], feet[f].support, foot_key[f]);
+  }
+  std::vector<std::pair<std::uint64_t, std::int32_t>> attached, attached_before;
+  // At most a vertical cell down, in the finest cells: feet never creep along the plane.
+  const int rounds = static_cast<int>(std::ceil(params.r_z / finest_cell));
+  bool grew = true;
+  for (int round = 0; grew && round < rounds; ++round) {
+    attached.clear();
+    for (std::size_t f = 0; f < feet.size(); ++f) {
+      if (!keyed_foot[f] || point_objects[feet[f].index] >= 0) continue;
+      // The objects whose lowest points share the cell with it, failing that touch it.
+      std::int32_t object = -1;
+      bool one = true;
+      const auto lookIn = [&](const std::vector<std::pair<std::uint64_t, std::int32_t>>& cells,
+                              std::uint64_t wanted) {
+        auto it =
+            std::lower_bound(cells.begin(), cells.end(), std::make_pair(wanted, std::int32_t{-1}));
+        for (; it != cells.end() && it->first == wanted && one; ++it) {
+          one = object < 0 || object == it->second;
+          object = it->second;
+        }
+      };
+      const auto look = [&](std::uint64_t wanted) {
+        lookIn(lowest, wanted);
+        lookIn(attached_before, wanted);
+      };
+      look(foot_key[f]);
+      for (int dx = -1; dx <= 1 && one && object < 0; ++dx) {
+        for (int dy = -1; dy <= 1 && one; ++dy) {
+          for (int dz = -1; dz <= 1 && one; ++dz) look(neighbourKey(foot_key[f], dx, dy, dz));
+        }
+      }
+      if (one && object >= 0) attached.emplace_back(foot_key[f], object), keyed_foot[f] = 2;
+    }
+    // Written after the round, so that a round's outcome does not depend on the feet's order.
+    for (std::size_t f = 0, a = 0; f < feet.size(); ++f) {
+      if (keyed_foot[f] == 2) {
+        point_objects[feet[f].index] = attached[a++].second;
+        keyed_foot[f] = 3;
+      }
+    }
+    grew = !attached.empty();
+    // Kept apart from the objects' lowest cells, far more: merging into those each round
+    // copied them all again.
+    std::sort(attached.begin(), attached.end());
+    const auto middle = static_cast<std::ptrdiff_t>(attached_before.size());
+    attached_before.insert(attached_before.end(), attached.begin(), attached.end());
+    std::inplace_merge(attached_before.begin(), attached_before.begin() + middle,
+                       attached_before.end());
+  }
+}
+
+// Each object's points, centroid, height over its plane, smallest upright box and footprint.
+std::vector<StandingObject> describeObjects(const AlignedPoints& points,
+                                            const std::vector<HorizontalPlane>& planes,
+                                            const std::vector<std::int32_t>& point_objects,
+                                            const std::vector<int>& object_plane,
+                                            const Eigen::Vector3d& local_origin) {
+  std::vector<StandingObject> objects;
+  objects.resize(object_plane.size());
+  std::vector<std::vector<Eigen::Vector2d>> footprint_points(object_plane.size());
+  std::vector<double> top(object_plane.size(), -std::numeric_limits<double>::infinity());
+  for (std::size_t o = 0; o < object_plane.size(); ++o) {
+    StandingObject& object = objects[o];
+    object.index = static_cast<int>(o);
+    object.plane_index = object_plane[o];
+    object.plane_id = planes[object.plane_index].id;
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::int32_t o = point_objects[i];
+    if (o < 0) continue;
+    const Eigen::Vector3f q = points[i];
+    StandingObject& object = objects[o];
+    ++object.num_points;
+    object.centroid += q.cast<double>();
+    footprint_points[o].emplace_back(q.x(), q.y());
+    top[o] = std::max(top[o], static_cast<double>(q.z()));
+  }
+  for (StandingObject& object : objects) {
+    const std::size_t o = static_cast<std::size_t>(object.index);
+    const double base = planes[object.plane_index].height;
+    object.centroid = object.centroid / static_cast<double>(object.num_points) + local_origin;
+    object.height = top[o] + local_origin.z() - base;
+    const std::vector<Eigen::Vector2d> hull = convexHull2D(std::move(footprint_points[o]));
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero(), size = Eigen::Vector2d::Zero();
+    smallestUprightBox(hull, centre, object.yaw, size);
+    object.box_centre = Eigen::Vector3d(centre.x() + local_origin.x(),
+                                        centre.y() + local_origin.y(), base + object.height / 2);
+    object.box_size = Eigen::Vector3d(size.x(), size.y(), object.height);
+    for (const Eigen::Vector2d& h : hull) {
+      object.footprint.emplace_back(h.x() + local_origin.x(), h.y() + local_origin.y(), base);
+    }
+  }
+  return objects;
+}
+
 }  // namespace
 
 StandingObjects findStandingObjects(const AlignedPoints& points,
@@ -928,7 +1081,6 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
   const std::vector<int>& tall_top_over = found.tall_top_over;
   const std::vector<double>& local_height = found.local_height;
   const std::vector<double>& sample_cell = found.sample_cell;
-  const double finest_cell = params.r_z / 4;         // the finest object cell (findSupports)
   thread_local std::vector<ObjectPoint> candidates;  // kept from frame to frame (cell_keys.h)
   candidates.clear();
   thread_local std::vector<FootPoint> feet;
@@ -1099,140 +1251,9 @@ StandingObjects findStandingObjects(const AlignedPoints& points,
     object_plane = std::move(parent);
   }
   dropSmallObjects(object_params.min_points, result.point_objects, object_plane);
-  // Each foot point goes to the object whose lowest points (up to a vertical cell and two of
-  // its plane's finest cells above the plane) share its cell on its plane's finest grid, or
-  // failing that touch it, when exactly one object's do; then the feet next to those, and so
-  // on down, a vertical cell at most (a thing's lowest points may lie in the plane's voxels,
-  // a few cells below the lowest that was not the plane's).
-  if (!feet.empty() && !object_plane.empty()) {
-    std::vector<std::pair<std::uint64_t, std::int32_t>> lowest;  // (cell key, object)
-    // Feet far from every object's lowest points (the plane's own noisy samples, most of them)
-    // are passed over at once: only those in or beside an r_xy column holding some are looked at.
-    std::vector<std::uint64_t> columns;
-    lowest.reserve(candidates.size());  // no more object points than candidates
-    columns.reserve(candidates.size());
-    const auto columnOf = [&](const Eigen::Vector3f& q, int s) {
-      std::uint64_t key = 0;
-      cellKey(Eigen::Vector3f(q.x(), q.y(), 0), params.r_xy, s, key);
-      return key;
-    };
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const std::int32_t o = result.point_objects[i];
-      if (o < 0) continue;
-      const int s = support_of_plane[object_plane[o]];
-      if (s < 0) continue;
-      const Eigen::Vector3f q = points[i];
-      std::uint64_t key;
-      if (q.z() - local_height[s] <= params.r_z + 2 * sample_cell[s] &&
-          cellKey(q, sample_cell[s], s, key)) {
-        lowest.emplace_back(key, o);
-        columns.push_back(columnOf(q, s));
-      }
-    }
-    std::sort(lowest.begin(), lowest.end());
-    lowest.erase(std::unique(lowest.begin(), lowest.end()), lowest.end());
-    std::sort(columns.begin(), columns.end());
-    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
-    const auto nearColumn = [&](std::uint64_t column) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          if (std::binary_search(columns.begin(), columns.end(), neighbourKey(column, dx, dy, 0))) {
-            return true;
-          }
-        }
-      }
-      return false;
-    };
-    std::vector<std::uint64_t> foot_key(feet.size());
-    std::vector<std::uint8_t> keyed_foot(feet.size(), 0);
-    for (std::size_t f = 0; f < feet.size(); ++f) {
-      const Eigen::Vector3f q = points[feet[f].index];
-      keyed_foot[f] = nearColumn(columnOf(q, feet[f].support)) &&
-                      cellKey(q, sample_cell[feet[f].support], feet[f].support, foot_key[f]);
-    }
-    std::vector<std::pair<std::uint64_t, std::int32_t>> attached, attached_before;
-    // At most a vertical cell down, in the finest cells: feet never creep along the plane.
-    const int rounds = static_cast<int>(std::ceil(params.r_z / finest_cell));
-    bool grew = true;
-    for (int round = 0; grew && round < rounds; ++round) {
-      attached.clear();
-      for (std::size_t f = 0; f < feet.size(); ++f) {
-        if (!keyed_foot[f] || result.point_objects[feet[f].index] >= 0) continue;
-        // The objects whose lowest points share the cell with it, failing that touch it.
-        std::int32_t object = -1;
-        bool one = true;
-        const auto lookIn = [&](const std::vector<std::pair<std::uint64_t, std::int32_t>>& cells,
-                                std::uint64_t wanted) {
-          auto it = std::lower_bound(cells.begin(), cells.end(),
-                                     std::make_pair(wanted, std::int32_t{-1}));
-          for (; it != cells.end() && it->first == wanted && one; ++it) {
-            one = object < 0 || object == it->second;
-            object = it->second;
-          }
-        };
-        const auto look = [&](std::uint64_t wanted) {
-          lookIn(lowest, wanted);
-          lookIn(attached_before, wanted);
-        };
-        look(foot_key[f]);
-        for (int dx = -1; dx <= 1 && one && object < 0; ++dx) {
-          for (int dy = -1; dy <= 1 && one; ++dy) {
-            for (int dz = -1; dz <= 1 && one; ++dz) look(neighbourKey(foot_key[f], dx, dy, dz));
-          }
-        }
-        if (one && object >= 0) attached.emplace_back(foot_key[f], object), keyed_foot[f] = 2;
-      }
-      // Written after the round, so that a round's outcome does not depend on the feet's order.
-      for (std::size_t f = 0, a = 0; f < feet.size(); ++f) {
-        if (keyed_foot[f] == 2) {
-          result.point_objects[feet[f].index] = attached[a++].second;
-          keyed_foot[f] = 3;
-        }
-      }
-      grew = !attached.empty();
-      // Kept apart from the objects' lowest cells, far more: merging into those each round
-      // copied them all again.
-      std::sort(attached.begin(), attached.end());
-      const auto middle = static_cast<std::ptrdiff_t>(attached_before.size());
-      attached_before.insert(attached_before.end(), attached.begin(), attached.end());
-      std::inplace_merge(attached_before.begin(), attached_before.begin() + middle,
-                         attached_before.end());
-    }
-  }
-  result.objects.resize(object_plane.size());
-  std::vector<std::vector<Eigen::Vector2d>> footprint_points(object_plane.size());
-  std::vector<double> top(object_plane.size(), -std::numeric_limits<double>::infinity());
-  for (std::size_t o = 0; o < object_plane.size(); ++o) {
-    StandingObject& object = result.objects[o];
-    object.index = static_cast<int>(o);
-    object.plane_index = object_plane[o];
-    object.plane_id = planes[object.plane_index].id;
-  }
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::int32_t o = result.point_objects[i];
-    if (o < 0) continue;
-    const Eigen::Vector3f q = points[i];
-    StandingObject& object = result.objects[o];
-    ++object.num_points;
-    object.centroid += q.cast<double>();
-    footprint_points[o].emplace_back(q.x(), q.y());
-    top[o] = std::max(top[o], static_cast<double>(q.z()));
-  }
-  for (StandingObject& object : result.objects) {
-    const std::size_t o = static_cast<std::size_t>(object.index);
-    const double base = planes[object.plane_index].height;
-    object.centroid = object.centroid / static_cast<double>(object.num_points) + local_origin;
-    object.height = top[o] + local_origin.z() - base;
-    const std::vector<Eigen::Vector2d> hull = convexHull2D(std::move(footprint_points[o]));
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero(), size = Eigen::Vector2d::Zero();
-    smallestUprightBox(hull, centre, object.yaw, size);
-    object.box_centre = Eigen::Vector3d(centre.x() + local_origin.x(),
-                                        centre.y() + local_origin.y(), base + object.height / 2);
-    object.box_size = Eigen::Vector3d(size.x(), size.y(), object.height);
-    for (const Eigen::Vector2d& h : hull) {
-      object.footprint.emplace_back(h.x() + local_origin.x(), h.y() + local_origin.y(), base);
-    }
-  }
+  attachFeet(points, feet, candidates.size(), found, object_plane, params, result.point_objects);
+  result.objects =
+      describeObjects(points, planes, result.point_objects, object_plane, local_origin);
   return result;
 }
 

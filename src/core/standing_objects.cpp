@@ -423,8 +423,8 @@ bool seenThroughUnder(const AlignedPoints& points, const std::vector<Eigen::Vect
     corner[k] = (hull[k] - local_origin).head<2>();
     box.extend(corner[k]);
   }
+  // Within the hull's edges by `inset` (the caller has tested its box).
   const auto inside = [&](const Eigen::Vector2d& x) {
-    if (!box.contains(x)) return false;
     for (std::size_t k = 0; k < corner.size(); ++k) {
       const Eigen::Vector2d edge = corner[(k + 1) % corner.size()] - corner[k];
       const Eigen::Vector2d to_x = x - corner[k];
@@ -484,6 +484,7 @@ struct Supports {
   std::vector<int> tall_top_over;      // the support a tall thing's top stands on, or -1
   std::vector<double> local_height;    // relative to the local origin
   std::vector<double> sample_cell;     // the finest cell of the objects on it
+  double finest_cell = 0.0;            // the finest of all: r_z / 4 (see findSupports)
 };
 
 // The object points: each with its support, its level, and whether it seeds objects.
@@ -628,7 +629,8 @@ Supports findSupports(const AlignedPoints& points, const std::vector<HorizontalP
   // far chair into its samples. Cells come in levels of the plane's finest cell · 2^level;
   // points of one level touch on its grid, and a coarser point reaches the finer points in its
   // cell's neighbours.
-  const double finest_cell = params.r_z / 4;
+  found.finest_cell = params.r_z / 4;
+  const double finest_cell = found.finest_cell;
   std::vector<double>& sample_cell = found.sample_cell;
   sample_cell.resize(supports.size());
   for (std::size_t s = 0; s < supports.size(); ++s) {
@@ -912,7 +914,6 @@ void attachFeet(const AlignedPoints& points, const std::vector<FootPoint>& feet,
   const std::vector<int>& support_of_plane = found.of_plane;
   const std::vector<double>& local_height = found.local_height;
   const std::vector<double>& sample_cell = found.sample_cell;
-  const double finest_cell = params.r_z / 4;  // the finest object cell (findSupports)
   std::vector<std::pair<std::uint64_t, std::int32_t>> lowest;  // (cell key, object)
   // Feet far from every object's lowest points (the plane's own noisy samples, most of them)
   // are passed over at once: only those in or beside an r_xy column holding some are looked at.
@@ -960,7 +961,7 @@ void attachFeet(const AlignedPoints& points, const std::vector<FootPoint>& feet,
   }
   std::vector<std::pair<std::uint64_t, std::int32_t>> attached, attached_before;
   // At most a vertical cell down, in the finest cells: feet never creep along the plane.
-  const int rounds = static_cast<int>(std::ceil(params.r_z / finest_cell));
+  const int rounds = static_cast<int>(std::ceil(params.r_z / found.finest_cell));
   bool grew = true;
   for (int round = 0; grew && round < rounds; ++round) {
     attached.clear();

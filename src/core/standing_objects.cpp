@@ -76,24 +76,33 @@ class SupportArea {
   }
   // After every occupied cell was marked: fill the holes, grow by one cell.
   void finish() {
-    // Cells reachable from the border without crossing an occupied cell are outside; every
-    // other cell is the plane or a hole in it.
-    std::vector<std::uint8_t> outside(mask_.size(), 0);
-    std::vector<long> stack;
-    auto push = [&](long x, long y) {
-      if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
-      const long k = y * width_ + x;
-      if (outside[k] || mask_[k]) return;
-      outside[k] = 1;
-      stack.push_back(k);
-    };
-    for (long x = 0; x < width_; ++x) push(x, 0), push(x, height_ - 1);
-    for (long y = 0; y < height_; ++y) push(0, y), push(width_ - 1, y);
-    while (!stack.empty()) {
-      const long k = stack.back();
-      stack.pop_back();
-      const long x = k % width_, y = k / width_;
-      push(x - 1, y), push(x + 1, y), push(x, y - 1), push(x, y + 1);
+    // Cells reachable from the border without crossing an occupied cell are outside (marked
+    // kOutside in the mask); every other cell is the plane or a hole in it. Filled run by run
+    // along the rows (a scanline fill): a street scan's ground holds half a million cells, and
+    // a push per cell took milliseconds. The border ring is never occupied (markOccupied), so
+    // one seed on it reaches all of it.
+    constexpr std::uint8_t kOutside = 2;
+    std::uint8_t* cells = mask_.data();
+    std::vector<long> seeds{0};
+    while (!seeds.empty()) {
+      const long k = seeds.back();
+      seeds.pop_back();
+      if (cells[k]) continue;
+      const long row = k - k % width_;
+      long left = k, right = k;
+      while (left > row && !cells[left - 1]) --left;
+      while (right < row + width_ - 1 && !cells[right + 1]) ++right;
+      std::fill(cells + left, cells + right + 1, kOutside);
+      // The free runs above and below it, each seeded once.
+      for (const long step : {-width_, width_}) {
+        if (row + step < 0 || row + step >= static_cast<long>(mask_.size())) continue;
+        bool in_run = false;
+        for (long n = left + step; n <= right + step; ++n) {
+          const bool open = !cells[n];
+          if (open && !in_run) seeds.push_back(n);
+          in_run = open;
+        }
+      }
     }
     // The convex hull of the occupied cells' corners: a bay of the plane that its edge does not
     // enclose (the back of a table hidden by the things on it, out to its far edge) is still
@@ -106,28 +115,30 @@ class SupportArea {
       if (first == row + width_) continue;
       const long x_first = first - row;
       long x_last = width_ - 1;
-      while (!row[x_last]) --x_last;
+      while (row[x_last] != 1) --x_last;
       for (const long cy : {y, y + 1}) {
         corners.emplace_back((x0_ + x_first) * cell_, (y0_ + cy) * cell_);
         corners.emplace_back((x0_ + x_last + 1) * cell_, (y0_ + cy) * cell_);
       }
     }
     hull_ = convexHull2D(std::move(corners));
-    std::vector<std::uint8_t> filled(mask_.size(), 0);
+    // Grown by one cell: a cell is the area's when a cell of its 3 × 3 block is not outside,
+    // found along the rows, then down the columns (the mask is at least 5 cells each way).
+    std::vector<std::uint8_t> along_row(mask_.size());
     for (long y = 0; y < height_; ++y) {
-      for (long x = 0; x < width_; ++x) {
-        bool near_inside = false;
-        for (long dy = -1; dy <= 1 && !near_inside; ++dy) {
-          for (long dx = -1; dx <= 1 && !near_inside; ++dx) {
-            const long nx = x + dx, ny = y + dy;
-            near_inside =
-                nx >= 0 && ny >= 0 && nx < width_ && ny < height_ && !outside[ny * width_ + nx];
-          }
-        }
-        filled[y * width_ + x] = near_inside ? 1 : 0;
+      const std::uint8_t* in = cells + y * width_;
+      std::uint8_t* near = along_row.data() + y * width_;
+      near[0] = in[0] != kOutside || in[1] != kOutside;
+      for (long x = 1; x + 1 < width_; ++x) {
+        near[x] = (in[x - 1] & in[x] & in[x + 1]) != kOutside;
       }
+      near[width_ - 1] = in[width_ - 2] != kOutside || in[width_ - 1] != kOutside;
     }
-    mask_.swap(filled);
+    const std::uint8_t* near = along_row.data();
+    const long last = (height_ - 1) * width_;
+    for (long x = 0; x < width_; ++x) cells[x] = near[x] | near[x + width_];
+    for (long k = width_; k < last; ++k) cells[k] = near[k - width_] | near[k] | near[k + width_];
+    for (long k = last; k < last + width_; ++k) cells[k] = near[k - width_] | near[k];
   }
   // Within `reach` metres of the area's bounding box.
   bool near(float x, float y, double reach) const {

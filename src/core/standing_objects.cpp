@@ -81,6 +81,7 @@ class SupportArea {
     // along the rows (a scanline fill): a street scan's ground holds half a million cells, and
     // a push per cell took milliseconds. The border ring is never occupied (markOccupied), so
     // one seed on it reaches all of it.
+    if (mask_.empty()) return;
     constexpr std::uint8_t kOutside = 2;
     std::uint8_t* cells = mask_.data();
     std::vector<long> seeds{0};
@@ -123,22 +124,24 @@ class SupportArea {
     }
     hull_ = convexHull2D(std::move(corners));
     // Grown by one cell: a cell is the area's when a cell of its 3 × 3 block is not outside,
-    // found along the rows, then down the columns (the mask is at least 5 cells each way).
+    // found along the rows, then down the columns (at the mask's edge a cell stands in for its
+    // missing neighbour).
     std::vector<std::uint8_t> along_row(mask_.size());
+    const long last = width_ - 1;
     for (long y = 0; y < height_; ++y) {
       const std::uint8_t* in = cells + y * width_;
       std::uint8_t* near = along_row.data() + y * width_;
-      near[0] = in[0] != kOutside || in[1] != kOutside;
-      for (long x = 1; x + 1 < width_; ++x) {
-        near[x] = (in[x - 1] & in[x] & in[x + 1]) != kOutside;
-      }
-      near[width_ - 1] = in[width_ - 2] != kOutside || in[width_ - 1] != kOutside;
+      near[0] = (in[0] & in[std::min(1L, last)]) != kOutside;
+      for (long x = 1; x < last; ++x) near[x] = (in[x - 1] & in[x] & in[x + 1]) != kOutside;
+      near[last] = (in[std::max(last - 1, 0L)] & in[last]) != kOutside;
     }
-    const std::uint8_t* near = along_row.data();
-    const long last = (height_ - 1) * width_;
-    for (long x = 0; x < width_; ++x) cells[x] = near[x] | near[x + width_];
-    for (long k = width_; k < last; ++k) cells[k] = near[k - width_] | near[k] | near[k + width_];
-    for (long k = last; k < last + width_; ++k) cells[k] = near[k - width_] | near[k];
+    for (long y = 0; y < height_; ++y) {
+      const std::uint8_t* middle = along_row.data() + y * width_;
+      const std::uint8_t* above = y > 0 ? middle - width_ : middle;
+      const std::uint8_t* below = y + 1 < height_ ? middle + width_ : middle;
+      std::uint8_t* grown = cells + y * width_;
+      for (long x = 0; x < width_; ++x) grown[x] = above[x] | middle[x] | below[x];
+    }
   }
   // Within `reach` metres of the area's bounding box.
   bool near(float x, float y, double reach) const {

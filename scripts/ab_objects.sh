@@ -11,8 +11,8 @@ data=${HOPE_SHARED_DATA:-$(cd "$(dirname "$0")/.." && pwd)/../shared/data}
 f=$data/mosd_dev/test57.pcd
 D=$data/tum_fr1_desk/1305031459.274941.png
 P="-0.2171 -0.0799 1.3959 -0.8445 -0.0451 0.0954 0.5251"
-synth=$(dirname "$B")/hope_synth
-[ -x "$synth" ] || synth=$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/hope/hope_synth
+# One scan for both builds, rendered by this tree's hope_synth.
+synth=$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/hope/hope_synth
 "$synth" --out "$tmp/scan" --lidar hdl64 >/dev/null
 for i in 1 2 3; do
   for X in A B; do

@@ -81,16 +81,26 @@ double tiltErrorDeg(const Orientation& orientation, const synthetic::Camera& cam
   return std::acos(std::min(1.0, up.z())) / kDegree;
 }
 
+// The map with poses, the tracker with poses, and the map with the orientation alone (the
+// poses' rotation: the odometry finds where the sensor is).
 TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
   const std::vector<RenderedCloud> frames = renderPan(8, 320);
-  for (Identity identity : {Identity::kMap, Identity::kImproved}) {
+  for (Identity identity : {Identity::kMap, Identity::kImproved, Identity::kOdometry}) {
     PipelineOptions options;
     options.identity = identity;
     FramePipeline pipeline(options);
     std::set<int> floor_ids, table_ids, floor_surface_ids;
     for (std::size_t f = 0; f < frames.size(); ++f) {
-      const Frame frame = pipeline.process(PointsView::of(frames[f].cloud), f / 30.0,
-                                           Orientation::fromTransform(frames[f].camera.pose));
+      Eigen::Isometry3d rotation_only = frames[f].camera.pose;
+      rotation_only.translation().setZero();
+      const Frame frame = pipeline.process(
+          PointsView::of(frames[f].cloud), f / 30.0,
+          Orientation::fromTransform(identity == Identity::kOdometry ? rotation_only
+                                                                     : frames[f].camera.pose));
+      EXPECT_EQ(frame.odometry.has_value(), identity == Identity::kOdometry);
+      if (frame.odometry && f > 0) {
+        EXPECT_TRUE(frame.odometry->tracked) << "frame " << f;
+      }
       ASSERT_TRUE(frame.processed) << frame.skipped;
       floor_ids.insert(idOfSurface(frame, frames[f].truth, 0));
       table_ids.insert(idOfSurface(frame, frames[f].truth, 1));
@@ -122,7 +132,7 @@ TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
     EXPECT_FALSE(table_ids.count(-1)) << toString(identity) << ": the table is in every frame";
     EXPECT_NE(*floor_ids.begin(), *table_ids.begin());
     EXPECT_EQ(pipeline.counters().frames, frames.size());
-    EXPECT_EQ(pipeline.mapSize() > 0, identity == Identity::kMap);
+    EXPECT_EQ(pipeline.mapSize() > 0, keepsSurfaceMap(identity));
   }
 }
 

@@ -28,6 +28,7 @@ namespace hope {
 class UpEstimator;
 class UpSmoother;
 class SurfaceGrouping;
+class SceneOdometry;
 struct FloorMap;
 
 // Up from the scene (up_estimation.h).
@@ -51,9 +52,15 @@ enum class Identity {
   kImproved,  // the improved tracker (plane_tracker.h), frame to frame: the default
   kPaper,     // the paper's nearest-neighbour plane matching (§2.5)
   kMap,       // a map of the surfaces (surface_map.h): needs poses in a fixed frame
+  // The same map in a frame the scene's own odometry keeps fixed (scene_odometry.h): for an
+  // orientation alone (an IMU, an accelerometer, up from the scene, rotation-only poses).
+  kOdometry,
 };
 
-// "improved", "paper" or "map"; throws std::invalid_argument for anything else.
+// Whether `identity` keeps the surface map (kMap, kOdometry).
+bool keepsSurfaceMap(Identity identity);
+
+// "improved", "paper", "map" or "odometry"; throws std::invalid_argument for anything else.
 Identity identityFromString(const std::string& name);
 const char* toString(Identity identity);
 
@@ -163,6 +170,17 @@ struct Frame {
   FloorGrid floor_grid;
   // Milliseconds spent giving the planes their ids (the tracker's or the map's update).
   double identity_ms = 0;
+  // Identity::kOdometry: whether the scene odometry aligned this frame with the last (false on
+  // the first frame, which starts its world, and where it lost the scene: the map's own gates
+  // then keep what it misplaces from taking an id), the share of the frame's voxels that met
+  // the last frame's surfaces, and its milliseconds. The frame's planes and objects stay in
+  // the given orientation's frame; the map holds them in the odometry's world.
+  struct Odometry {
+    bool tracked = false;
+    double overlap = 0;
+    double ms = 0;
+  };
+  std::optional<Odometry> odometry;
 };
 
 // Counts since the pipeline was made, for diagnostics.
@@ -171,6 +189,8 @@ struct PipelineCounters {
   // Levelling: frames whose up came from their scene, estimates refused with the last up held,
   // and refinements not applied (the given orientation kept).
   std::size_t levelled = 0, level_held = 0, uncorrected = 0;
+  // Identity::kOdometry: frames the scene odometry could not align with the one before.
+  std::size_t odometry_lost = 0;
 };
 
 class FramePipeline {
@@ -213,12 +233,13 @@ class FramePipeline {
   std::vector<std::string> setOptions(const PipelineOptions& options);
   const PipelineOptions& options() const { return options_; }
 
-  // The map's entries (Identity::kMap), oldest first; forgetting them (and the floor grid's
-  // map), ids going on.
+  // The map's entries (Identity::kMap; Identity::kOdometry: in the odometry's world, the first
+  // frame's), oldest first; forgetting them (and the floor grid's map), ids going on.
   std::vector<HorizontalPlane> mapSurfaces() const;
   std::size_t mapSize() const;
   void resetMap();
-  // Tracks, the gravity average and the running up start afresh (the map stays).
+  // Tracks, the gravity average and the running up start afresh (the map stays, but for
+  // Identity::kOdometry, whose world starts afresh with it).
   void restart();
 
   const PipelineCounters& counters() const { return counters_; }
@@ -244,6 +265,7 @@ class FramePipeline {
   SurfaceMap map_;
   std::unique_ptr<FloorMap> floor_map_;        // Identity::kMap: the frames' floor grids, overlaid
   std::unique_ptr<SurfaceGrouping> surfaces_;  // the pieces of one surface (surface_id)
+  std::unique_ptr<SceneOdometry> odometry_;    // Identity::kOdometry: the map's fixed frame
   struct GravitySample {
     double stamp;
     Eigen::Vector3d force;

@@ -11,6 +11,7 @@
 #include "hope/gravity_alignment.h"
 #include "hope/obstacle_points.h"
 #include "hope/placement.h"
+#include "hope/scene_odometry.h"
 #include "hope/standing_objects.h"
 #include "hope/surface_grouping.h"
 #include "hope/up_estimation.h"
@@ -31,6 +32,44 @@ SurfaceMapOptions mapOptionsFor(const PipelineOptions& options) {
   SurfaceMapOptions map = surfaceMapOptionsFor(options.extraction);
   map.forget_after_frames = options.map_forget_frames;
   return map;
+}
+
+// `plane` as seen in the frame `world_from_frame` takes it to (a turn about z and a shift: the
+// odometry's), as the map reads it: height, centroid, normal, hull, outline and their box.
+HorizontalPlane carried(const HorizontalPlane& plane, const Eigen::Isometry3d& world_from_frame) {
+  HorizontalPlane out = plane;
+  out.height += world_from_frame.translation().z();
+  out.centroid = world_from_frame * plane.centroid;
+  out.normal = world_from_frame.linear() * plane.normal;
+  Eigen::Vector2d lo(HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL);
+  const auto take = [&](Eigen::Vector3d& p) {
+    p = world_from_frame * p;
+    lo = lo.cwiseMin(p.head<2>());
+    hi = hi.cwiseMax(p.head<2>());
+  };
+  for (Eigen::Vector3d& p : out.hull) take(p);
+  for (auto& ring : out.outline) {
+    for (Eigen::Vector3d& p : ring) take(p);
+  }
+  if (out.hull.empty() && out.outline.empty()) {
+    const auto& b = plane.bbox;
+    for (Eigen::Vector3d corner :
+         {Eigen::Vector3d(b[0], b[1], plane.height), Eigen::Vector3d(b[2], b[1], plane.height),
+          Eigen::Vector3d(b[0], b[3], plane.height), Eigen::Vector3d(b[2], b[3], plane.height)}) {
+      take(corner);
+    }
+  }
+  out.bbox = {lo.x(), lo.y(), hi.x(), hi.y()};
+  return out;
+}
+
+// The odometry's finest voxel follows the extraction's vertical step: 1.5 r_z (3 cm at the
+// default 2 cm), so that a surface's voxels hold its samples and their noise.
+OdometryParams odometryParamsFor(const Params& extraction) {
+  OdometryParams params;
+  params.cell = 1.5 * extraction.r_z;
+  params.level_tilt_deg = std::atan(extraction.gamma()) * 180.0 / M_PI;  // Eq 3
+  return params;
 }
 
 LevellingParams levellingFor(const PipelineOptions& options) {
@@ -64,7 +103,9 @@ Identity identityFromString(const std::string& name) {
   if (name == "improved") return Identity::kImproved;
   if (name == "paper") return Identity::kPaper;
   if (name == "map") return Identity::kMap;
-  throw std::invalid_argument("tracking '" + name + "' is not one of improved, paper, map");
+  if (name == "odometry") return Identity::kOdometry;
+  throw std::invalid_argument("tracking '" + name +
+                              "' is not one of improved, paper, map, odometry");
 }
 
 const char* toString(Identity identity) {
@@ -73,10 +114,16 @@ const char* toString(Identity identity) {
       return "paper";
     case Identity::kMap:
       return "map";
+    case Identity::kOdometry:
+      return "odometry";
     case Identity::kImproved:
       break;
   }
   return "improved";
+}
+
+bool keepsSurfaceMap(Identity identity) {
+  return identity == Identity::kMap || identity == Identity::kOdometry;
 }
 
 void validate(const PipelineOptions& options) {
@@ -121,7 +168,8 @@ FramePipeline::FramePipeline(const PipelineOptions& options)
       tracker_(trackerOptionsFor(options.identity)),
       map_(mapOptionsFor(options)),
       floor_map_(std::make_unique<FloorMap>()),
-      surfaces_(std::make_unique<SurfaceGrouping>(surfaceGroupingOptionsFor(options.extraction))) {}
+      surfaces_(std::make_unique<SurfaceGrouping>(surfaceGroupingOptionsFor(options.extraction))),
+      odometry_(std::make_unique<SceneOdometry>(odometryParamsFor(options.extraction))) {}
 
 FramePipeline::~FramePipeline() = default;
 
@@ -131,7 +179,17 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
   extractor_ = Extractor(options.extraction);
   if (options.identity != options_.identity) {
     tracker_ = PlaneTracker(trackerOptionsFor(options.identity));
-    if (options.identity != Identity::kMap && map_.size() > 0) {
+    // The odometry's world is not the poses' fixed frame: the map starts afresh across them.
+    if ((options.identity == Identity::kOdometry || options_.identity == Identity::kOdometry) &&
+        map_.size() > 0) {
+      notes.push_back("surface map restarted: tracking " +
+                      std::string(toString(options_.identity)) + " -> " +
+                      toString(options.identity) + " changes its frame; " +
+                      std::to_string(map_.size()) + " surfaces forgotten");
+      map_.reset();
+    }
+    odometry_->reset();
+    if (!keepsSurfaceMap(options.identity) && map_.size() > 0) {
       notes.push_back("tracking " + std::string(toString(options.identity)) +
                       ": the surface map's " + std::to_string(map_.size()) +
                       " surfaces are no longer used");
@@ -171,6 +229,7 @@ std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& option
   }
   if (options.extraction.r_z != options_.extraction.r_z) {
     *surfaces_ = SurfaceGrouping(surfaceGroupingOptionsFor(options.extraction));
+    *odometry_ = SceneOdometry(odometryParamsFor(options.extraction));  // its voxels follow r_z
   }
   options_ = options;
   return notes;
@@ -182,6 +241,7 @@ std::size_t FramePipeline::mapSize() const { return map_.size(); }
 
 void FramePipeline::resetMap() {
   map_.reset();
+  odometry_->reset();  // a new world for a new map
   *floor_map_ = FloorMap();
   first_map_pose_.reset();
   map_sensor_moved_ = map_warned_ = false;
@@ -212,6 +272,8 @@ void FramePipeline::restart() {
   up_smoother_->reset();
   last_level_stamp_.reset();
   surfaces_->reset();
+  // The odometry's world ends with the time it was built in: the map in it starts afresh.
+  if (options_.identity == Identity::kOdometry) resetMap();
 }
 
 std::optional<Eigen::Vector3d> FramePipeline::smoothedUp() const {
@@ -256,7 +318,7 @@ Frame FramePipeline::processWithGravity(const PointsView& cloud, double stamp,
   if (options_.identity == Identity::kMap) {
     throw std::invalid_argument(
         "the surface map needs poses in a fixed frame; an accelerometer gives an orientation "
-        "only (use the improved tracker)");
+        "only (use tracking odometry or improved)");
   }
   Frame frame;
   noteStamp(stamp, frame);
@@ -342,6 +404,24 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
                                         const Orientation& orientation, const FrameOutputs& outputs,
                                         bool identify) {
   frame.orientation = orientation;
+  // Identity::kOdometry: where this frame's reference frame lies in the odometry's world. The
+  // frame is extracted as given (its planes and objects are what the tracker's frame gives);
+  // only the map sees them carried into that world.
+  std::optional<Eigen::Isometry3d> world_from_frame;
+  std::vector<HorizontalPlane> in_world;  // the planes there
+  std::optional<Eigen::Vector3d> world_eye = orientation.viewpoint();
+  if (identify && options_.identity == Identity::kOdometry) {
+    const auto start = std::chrono::steady_clock::now();
+    const OdometryStep step = odometry_->update(cloud, orientation.sensorToReference());
+    world_from_frame = step.world_from_frame;
+    Frame::Odometry report;
+    report.tracked = step.tracked;
+    report.overlap = step.overlap;
+    report.ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    frame.odometry = report;
+    if (!step.tracked && map_.size() > 0) ++counters_.odometry_lost;
+  }
   ExtractOutputs wanted;
   wanted.point_labels = outputs.point_labels || outputs.keep_points;
   wanted.objects = options_.objects && outputs.objects;
@@ -352,6 +432,14 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
   if (identify && options_.identity == Identity::kMap) {
     if (auto warning = mapInputWarning(orientation)) frame.result.warnings.push_back(*warning);
     frame.events = map_.update(frame.result.planes, frame.stamp, orientation.viewpoint());
+  } else if (world_from_frame) {
+    // The planes carried into the odometry's world for the map; their ids come back below.
+    in_world.reserve(frame.result.planes.size());
+    for (const HorizontalPlane& plane : frame.result.planes) {
+      in_world.push_back(carried(plane, *world_from_frame));
+    }
+    if (world_eye) world_eye = *world_from_frame * *world_eye;
+    frame.events = map_.update(in_world, frame.stamp, world_eye);
   } else if (identify) {
     frame.events = tracker_.update(frame.result.planes, frame.stamp);
   }
@@ -359,8 +447,22 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   // The noise the extraction judged the sensor by: how far one surface's pieces may differ in
   // height at their ranges.
-  surfaces_->assign(frame.result.planes, frame.stamp, orientation.viewpoint(), frame.result.noise,
-                    identify);
+  if (world_from_frame) {
+    // The pieces of one surface in the odometry's world too: the boxes their ids had in the
+    // last second lie there, wherever the sensor turned.
+    surfaces_->assign(in_world, frame.stamp, world_eye, frame.result.noise, identify);
+    for (std::size_t k = 0; k < in_world.size(); ++k) {
+      HorizontalPlane& plane = frame.result.planes[k];
+      plane.id = in_world[k].id;
+      plane.age = in_world[k].age;
+      plane.last_seen = in_world[k].last_seen;
+      plane.split_from = in_world[k].split_from;
+      plane.surface_id = in_world[k].surface_id;
+    }
+  } else {
+    surfaces_->assign(frame.result.planes, frame.stamp, orientation.viewpoint(), frame.result.noise,
+                      identify);
+  }
   // The objects were found under the frame's own plane indices; the planes (in the same order)
   // now carry their persistent ids.
   for (StandingObject& o : frame.result.objects) {

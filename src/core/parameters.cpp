@@ -1,5 +1,7 @@
 #include "hope/parameters.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -85,14 +87,17 @@ std::vector<ParameterSpec> makeTable() {
   tracking.option = "--tracking";
   tracking.type = ParameterSpec::Type::kChoice;
   tracking.default_choice = toString(d.identity);
-  tracking.choices = {"improved", "paper", "map"};
+  tracking.choices = {"improved", "paper", "map", "odometry"};
   tracking.stage = "plane matching (§2.5)";
   tracking.live = true;
   tracking.doc =
-      "persistent ids: the improved tracker, the paper's NNPM, or a map of the surfaces (poses "
-      "in a fixed frame only)";
+      "persistent ids: the improved tracker, the paper's NNPM, a map of the surfaces (poses "
+      "in a fixed frame only), or that map in the frame of the scene's own odometry (an "
+      "orientation only)";
   tracking.set = [](PipelineOptions& o, double v) {
-    o.identity = v == 0 ? Identity::kImproved : v == 1 ? Identity::kPaper : Identity::kMap;
+    static const Identity kByChoice[] = {Identity::kImproved, Identity::kPaper, Identity::kMap,
+                                         Identity::kOdometry};
+    o.identity = kByChoice[std::min(3, std::max(0, static_cast<int>(v)))];
   };
   t.push_back(tracking);
   t.push_back(typed(number("objects", "--no-objects", d.objects, 0, 1, "", "standing objects", true,

@@ -48,6 +48,8 @@ struct ExtractionResult {
   std::vector<hope::TrackEvent> events;
   std::string skipped;
   bool level_held = false, time_jump = false;
+  // tracking_mode="odometry": {"tracked", "overlap", "ms"} (hope::Frame::Odometry), else None.
+  py::object odometry = py::none();
   std::shared_ptr<const hope::Frame> frame;
   // Pipeline.process(obstacles=True): the input indices of the obstacle points (uint32), and
   // the floor's plane id (-1: none in view).
@@ -373,6 +375,13 @@ class PyPipeline {
     out.skipped = frame->processed ? std::string() : frame->skipped;
     out.level_held = frame->level_held;
     out.time_jump = frame->time_jump;
+    if (frame->odometry) {
+      py::dict odometry;
+      odometry["tracked"] = frame->odometry->tracked;
+      odometry["overlap"] = frame->odometry->overlap;
+      odometry["ms"] = frame->odometry->ms;
+      out.odometry = odometry;
+    }
     for (const auto& warning : out.result.warnings) {
       if (PyErr_WarnEx(PyExc_UserWarning, ("hope: " + warning).c_str(), 1) < 0) {
         throw py::error_already_set();
@@ -819,6 +828,10 @@ PYBIND11_MODULE(_hope, m) {
                     "Pipeline.process: nothing level in view, the last up held")
       .def_readonly("time_jump", &ExtractionResult::time_jump,
                     "Pipeline.process: the stamp went back; tracks started afresh")
+      .def_readonly("odometry", &ExtractionResult::odometry,
+                    "Pipeline.process with tracking_mode='odometry': a dict, tracked (the "
+                    "frame aligned with the last), overlap (the share of its voxels that met the "
+                    "last frame's surfaces), ms; else None")
       .def_readonly("obstacles", &ExtractionResult::obstacles,
                     "Pipeline.process(obstacles=True): the indices (uint32, into the points "
                     "flattened) of the points between obstacle_min_height and "

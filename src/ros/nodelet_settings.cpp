@@ -167,6 +167,13 @@ hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
       throw std::invalid_argument(
           "the surface map needs orientation_source tf and a fixed reference_frame");
     }
+    if (identity == hope::Identity::kOdometry) {
+      // Its planes lie in the odometry's world, which no tf frame names: published under the
+      // reference frame they would be misplaced.
+      throw std::invalid_argument(
+          "tracking_mode odometry is hope_extract's and Python's for now (its world is no tf "
+          "frame); use map with a fixed reference_frame, or improved");
+    }
     result.identity = identity;
   } catch (const std::exception& e) {
     problems.push_back(std::string("keeping tracking mode ") + hope::toString(result.identity) +

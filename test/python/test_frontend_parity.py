@@ -1,6 +1,6 @@
 """Same input, same output: one rendered sequence through hope_extract --sequence and through
 hope.Pipeline gives the same planes, ids, objects and events frame by frame, with poses (the
-surface map), with the accelerometer (the tracker, gravity averaged over its window) and with
+surface map), with the accelerometer (the odometry's map, gravity averaged over its window) and with
 up from the scene (smoothed and held). Both front-ends call the core's FramePipeline; this is
 what keeps them from deciding anything apart. Run by ctest (python_parity)."""
 
@@ -48,7 +48,8 @@ def python_run(folder, mode):
     poses = read_stamped(os.path.join(folder, "groundtruth.txt"))
     accel = read_stamped(os.path.join(folder, "accelerometer.txt"))
     pipeline = hope.Pipeline(
-        tracking_mode="map" if mode == "poses" else "improved",
+        # hope_extract's defaults: the map with poses, the odometry's map with an orientation only.
+        tracking_mode="map" if mode == "poses" else "odometry",
         levelling="estimate" if mode == "scene" else "off",
     )
     frames = []
@@ -139,7 +140,7 @@ class FrontEndParity(unittest.TestCase):
     def test_poses_and_the_surface_map(self):
         self.check_mode("poses")
 
-    def test_accelerometer_and_the_tracker(self):
+    def test_accelerometer_and_the_odometry(self):
         self.check_mode("accel")
 
     def test_up_from_the_scene(self):

@@ -56,11 +56,14 @@ std::uint64_t encode(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 bool keyOf(const Eigen::Vector3d& p, double size, std::uint64_t& key) {
   const Eigen::Vector3d c = (p / size).array().floor();
-  if (!(c.cwiseAbs().maxCoeff() < static_cast<double>(kBias - 2))) return false;  // also NaN
+  if (!c.allFinite() || !(c.cwiseAbs().maxCoeff() < static_cast<double>(kBias - 2))) return false;
   key = encode(static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()),
                static_cast<std::int64_t>(c.z()));
   return true;
 }
+
+// ⌊v / 2⌋: the coordinate of the voxel twice as large that holds voxel v.
+std::int64_t halvedDown(std::int64_t v) { return v >= 0 ? v / 2 : -((1 - v) / 2); }
 
 std::uint64_t neighbour(std::uint64_t key, int dx, int dy, int dz) {
   return encode(decode(key, 2) + dx, decode(key, 1) + dy, decode(key, 0) + dz);
@@ -158,9 +161,9 @@ bool flatNormal(const Moments& m, Eigen::Vector3d& normal) {
 }
 
 // The finished level: each voxel's centroid and, where flat, the normal of the voxel twice its
-// size that holds it (`parent`: its index in `coarser`; the coarsest level's own): a voxel of a
-// few points tells no normal, eight of them do.
-SceneOdometry::Voxels finish(const VoxelSums& sums, double size, const VoxelSums* coarser,
+// size that holds it (`parent`: its index in `coarser`): a voxel of a few points tells no
+// normal, the eight around it do.
+SceneOdometry::Voxels finish(const VoxelSums& sums, double size, const VoxelSums& coarser,
                              const std::vector<std::int32_t>& parent) {
   SceneOdometry::Voxels out;
   out.size = size;
@@ -170,18 +173,14 @@ SceneOdometry::Voxels finish(const VoxelSums& sums, double size, const VoxelSums
   out.centroid.resize(n);
   out.normal.assign(n, Eigen::Vector3d::UnitZ());
   out.flat.assign(n, 0);
-  std::vector<std::int8_t> parent_flat(coarser ? coarser->moments.size() : 0, -1);
+  std::vector<std::int8_t> parent_flat(coarser.moments.size(), -1);  // -1: not yet known
   std::vector<Eigen::Vector3d> parent_normal(parent_flat.size());
   for (std::size_t v = 0; v < n; ++v) {
     const Moments& own = sums.moments[v];
     out.centroid[v] = own.sum / own.count;
     if (own.count < kMinSamplePoints) continue;  // a stray point's voxel aligns nothing
-    if (!coarser) {
-      out.flat[v] = flatNormal(own, out.normal[v]) ? 1 : 0;
-      continue;
-    }
     const std::size_t up = static_cast<std::size_t>(parent[v]);
-    if (parent_flat[up] < 0) parent_flat[up] = flatNormal(coarser->moments[up], parent_normal[up]);
+    if (parent_flat[up] < 0) parent_flat[up] = flatNormal(coarser.moments[up], parent_normal[up]);
     if (parent_flat[up] > 0) {
       out.normal[v] = parent_normal[up];
       out.flat[v] = 1;
@@ -194,7 +193,8 @@ Eigen::Matrix3d turn(double yaw) {
   return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).matrix();
 }
 
-// The flat voxel of `model` nearest `q` within kReach voxels, or -1.
+// The flat voxel of `model` holding `q`, else the flat one nearest it among the voxels around
+// within kReach voxels, or -1; `distance` from q to its centroid.
 std::int32_t nearestFlat(const SceneOdometry::Voxels& model, const Eigen::Vector3d& q,
                          double& distance) {
   std::uint64_t key;
@@ -317,8 +317,8 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
     std::vector<std::int32_t> parent(finer.moments.size());
     for (std::size_t v = 0; v < finer.moments.size(); ++v) {
       const std::uint64_t k = finer.key_of[v];
-      // An arithmetic shift halves a signed coordinate towards −∞, as floor() does.
-      parent[v] = coarser.at(encode(decode(k, 2) >> 1, decode(k, 1) >> 1, decode(k, 0) >> 1));
+      parent[v] = coarser.at(
+          encode(halvedDown(decode(k, 2)), halvedDown(decode(k, 1)), halvedDown(decode(k, 0))));
       coarser.moments[static_cast<std::size_t>(parent[v])].add(finer.moments[v]);
     }
     sums.push_back(std::move(coarser));
@@ -327,7 +327,7 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
   std::vector<Voxels> levels;
   for (std::size_t level = 0; level < static_cast<std::size_t>(params_.levels); ++level) {
     levels.push_back(finish(sums[level], params_.cell * static_cast<double>(1 << level),
-                            &sums[level + 1], parents[level]));
+                            sums[level + 1], parents[level]));
   }
 
   OdometryStep step;

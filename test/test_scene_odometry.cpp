@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -106,53 +107,27 @@ TEST(SceneOdometry, NoPointsAndBadParametersAreSaidNotGuessed) {
     EXPECT_TRUE(step.world_from_frame.matrix().allFinite());
     EXPECT_EQ(step.overlap, 0.0);
   }
-  for (const auto& bad :
-       std::vector<std::pair<std::string, OdometryParams>>{{"cell",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.cell = -0.03;
-                                                              return p;
-                                                            }()},
-                                                           {"cell",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.cell = NAN;
-                                                              return p;
-                                                            }()},
-                                                           {"levels",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.levels = 0;
-                                                              return p;
-                                                            }()},
-                                                           {"iterations",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.iterations = 0;
-                                                              return p;
-                                                            }()},
-                                                           {"max_samples",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.max_samples = 1;
-                                                              return p;
-                                                            }()},
-                                                           {"min_overlap",
-                                                            [] {
-                                                              OdometryParams p;
-                                                              p.min_overlap = 1.5;
-                                                              return p;
-                                                            }()},
-                                                           {"noise", [] {
-                                                              OdometryParams p;
-                                                              p.noise = RangeNoise{-1, 0, 0, 0};
-                                                              return p;
-                                                            }()}}) {
+  // Each bad parameter is refused by name.
+  using Spoil = std::function<void(OdometryParams&)>;
+  const std::vector<std::pair<std::string, Spoil>> bad = {
+      {"cell", [](OdometryParams& p) { p.cell = -0.03; }},
+      {"cell", [](OdometryParams& p) { p.cell = NAN; }},
+      {"levels", [](OdometryParams& p) { p.levels = 0; }},
+      {"iterations", [](OdometryParams& p) { p.iterations = 0; }},
+      {"max_samples", [](OdometryParams& p) { p.max_samples = 1; }},
+      {"level_tilt_deg", [](OdometryParams& p) { p.level_tilt_deg = 60; }},
+      {"min_overlap", [](OdometryParams& p) { p.min_overlap = 1.5; }},
+      {"noise", [](OdometryParams& p) {
+         p.noise = RangeNoise{-1, 0, 0, 0};
+       }}};
+  for (const auto& [name, spoil] : bad) {
+    OdometryParams params;
+    spoil(params);
     try {
-      SceneOdometry refused(bad.second);
-      ADD_FAILURE() << bad.first << " accepted";
+      SceneOdometry accepted(params);
+      ADD_FAILURE() << name << " accepted";
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(bad.first), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
 }

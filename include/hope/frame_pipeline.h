@@ -189,8 +189,6 @@ struct PipelineCounters {
   // Levelling: frames whose up came from their scene, estimates refused with the last up held,
   // and refinements not applied (the given orientation kept).
   std::size_t levelled = 0, level_held = 0, uncorrected = 0;
-  // Identity::kOdometry: frames the scene odometry could not align with the one before.
-  std::size_t odometry_lost = 0;
 };
 
 class FramePipeline {

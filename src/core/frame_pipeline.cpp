@@ -420,7 +420,6 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
     report.ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     frame.odometry = report;
-    if (!step.tracked && map_.size() > 0) ++counters_.odometry_lost;
   }
   ExtractOutputs wanted;
   wanted.point_labels = outputs.point_labels || outputs.keep_points;

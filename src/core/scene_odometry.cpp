@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -163,12 +165,13 @@ bool flatNormal(const Moments& m, Eigen::Vector3d& normal) {
 // The finished level: each voxel's centroid and, where flat, the normal of the voxel twice its
 // size that holds it (`parent`: its index in `coarser`): a voxel of a few points tells no
 // normal, the eight around it do.
-SceneOdometry::Voxels finish(const VoxelSums& sums, double size, const VoxelSums& coarser,
+// The level's key table is taken from `sums` (its moments stay, for the samples).
+SceneOdometry::Voxels finish(VoxelSums& sums, double size, const VoxelSums& coarser,
                              const std::vector<std::int32_t>& parent) {
   SceneOdometry::Voxels out;
   out.size = size;
-  out.table_keys = sums.keys;
-  out.table_index = sums.index;
+  out.table_keys = std::move(sums.keys);
+  out.table_index = std::move(sums.index);
   const std::size_t n = sums.moments.size();
   out.centroid.resize(n);
   out.normal.assign(n, Eigen::Vector3d::UnitZ());
@@ -340,15 +343,12 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
     return step;
   }
   // Samples of the moving frame at each level, then the motions tried from the best start.
-  std::vector<Voxels> moving(levels.size());
+  std::vector<std::vector<Eigen::Vector3d>> moving(levels.size());
   for (std::size_t level = 0; level < levels.size(); ++level) {
-    Voxels& m = moving[level];
-    m.size = levels[level].size;
     for (std::size_t v : samplesOf(sums[level], params_.max_samples)) {
-      m.centroid.push_back(levels[level].centroid[v]);
+      moving[level].push_back(levels[level].centroid[v]);
     }
   }
-  std::vector<Motion> starts = {last_motion_, Motion()};
   Motion best;
   double best_overlap = -1.0;
   const auto tryFrom = [&](const Motion& start) {
@@ -359,7 +359,8 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
       best = motion;
     }
   };
-  for (const Motion& start : starts) tryFrom(start);
+  tryFrom(last_motion_);
+  tryFrom(Motion());
   if (best_overlap < params_.min_overlap) {
     for (double deg : kYawSeedsDeg) {
       Motion start;
@@ -387,24 +388,24 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
 // Point-to-plane Gauss–Newton from `motion` (which takes the moving frame's points into the
 // last frame's), coarse to fine; `overlap` as OdometryParams::min_overlap says. A turn δ and a
 // shift δt are applied on the left: q ← Rz(δ) q + δt, so that ∂q/∂δ = (−q_y, q_x, 0).
-bool SceneOdometry::align(const std::vector<Voxels>& moving, Motion& motion,
+bool SceneOdometry::align(const std::vector<std::vector<Eigen::Vector3d>>& moving, Motion& motion,
                           double& overlap) const {
+  const double level_cos = std::cos(params_.level_tilt_deg * M_PI / 180.0);
   for (std::size_t level = moving.size(); level-- > 0;) {
     const Voxels& model = last_[level];
-    const Voxels& samples = moving[level];
+    const std::vector<Eigen::Vector3d>& samples = moving[level];
+    // The turn is weighed in metres, as the shifts are: by the samples' mean distance from the
+    // vertical through the origin (the turn moves them that far per radian).
+    double radius_sq = 0.0;
+    for (const Eigen::Vector3d& p : samples) radius_sq += p.head<2>().squaredNorm();
+    const double radius =
+        std::max(model.size, std::sqrt(radius_sq / std::max<std::size_t>(1, samples.size())));
     for (int iteration = 0; iteration < params_.iterations; ++iteration) {
       const Eigen::Matrix3d rotation = turn(motion.yaw);
       Eigen::Matrix4d h = Eigen::Matrix4d::Zero();
       Eigen::Vector4d g = Eigen::Vector4d::Zero();
       int pairs = 0, steep = 0;
-      const double level_cos = std::cos(params_.level_tilt_deg * M_PI / 180.0);
-      // The turn is weighed in metres, as the shifts are: by the samples' mean distance from
-      // the vertical through the origin (the turn moves them that far per radian).
-      double radius_sq = 0.0;
-      for (const Eigen::Vector3d& p : samples.centroid) radius_sq += p.head<2>().squaredNorm();
-      const double radius = std::max(
-          samples.size, std::sqrt(radius_sq / std::max<std::size_t>(1, samples.centroid.size())));
-      for (const Eigen::Vector3d& p : samples.centroid) {
+      for (const Eigen::Vector3d& p : samples) {
         const Eigen::Vector3d q = rotation * p + motion.shift;
         double distance;
         const std::int32_t v = nearestFlat(model, q, distance);
@@ -444,15 +445,15 @@ bool SceneOdometry::align(const std::vector<Voxels>& moving, Motion& motion,
   const Voxels& finest = last_.front();
   const Eigen::Matrix3d rotation = turn(motion.yaw);
   int near = 0;
-  for (const Eigen::Vector3d& p : moving.front().centroid) {
+  for (const Eigen::Vector3d& p : moving.front()) {
     double distance;
     if (nearestFlat(finest, rotation * p + motion.shift, distance) >= 0 && distance < finest.size) {
       ++near;
     }
   }
-  overlap = moving.front().centroid.empty()
+  overlap = moving.front().empty()
                 ? 0.0
-                : static_cast<double>(near) / static_cast<double>(moving.front().centroid.size());
+                : static_cast<double>(near) / static_cast<double>(moving.front().size());
   return true;
 }
 

@@ -93,7 +93,9 @@ class SceneOdometry {
     double yaw = 0.0;
     Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   };
-  bool align(const std::vector<Voxels>& moving, Motion& motion, double& overlap) const;
+  // `moving`: the frame's sample centroids at each level.
+  bool align(const std::vector<std::vector<Eigen::Vector3d>>& moving, Motion& motion,
+             double& overlap) const;
 
   OdometryParams params_;
   std::vector<Voxels> last_;

@@ -578,7 +578,7 @@ int runSequence(const Options& o) {
   // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
   // entry for the whole run (its id until --map-forget frames unseen). Gravity alone leaves the
   // camera's position unknown: the scene's own odometry finds it, and the same map is kept in
-  // its frame (on kitchen_dev's accelerometer run IDF1 70.4 % with the improved tracker, 82.9 %
+  // its frame (on kitchen_dev's accelerometer run IDF1 70.4 % with the improved tracker, 85.2 %
   // so: docs/quality.md).
   const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
   if (!o.values.count("--tracking"))

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "hope/extractor.h"
 #include "hope/orientation.h"
@@ -174,11 +175,13 @@ struct Frame {
   // the first frame, which starts its world, and where it lost the scene: the map's own gates
   // then keep what it misplaces from taking an id), the share of the frame's voxels that met
   // the last frame's surfaces, and its milliseconds. The frame's planes and objects stay in
-  // the given orientation's frame; the map holds them in the odometry's world.
+  // the given orientation's frame; the map holds them in the odometry's world, where
+  // world_from_frame carries this frame's (the orientation's reference frame's) coordinates.
   struct Odometry {
     bool tracked = false;
     double overlap = 0;
     double ms = 0;
+    Eigen::Isometry3d world_from_frame = Eigen::Isometry3d::Identity();
   };
   std::optional<Odometry> odometry;
 };

@@ -417,6 +417,7 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
     Frame::Odometry report;
     report.tracked = step.tracked;
     report.overlap = step.overlap;
+    report.world_from_frame = step.world_from_frame;
     report.ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     frame.odometry = report;

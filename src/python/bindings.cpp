@@ -48,7 +48,8 @@ struct ExtractionResult {
   std::vector<hope::TrackEvent> events;
   std::string skipped;
   bool level_held = false, time_jump = false;
-  // tracking_mode="odometry": {"tracked", "overlap", "ms"} (hope::Frame::Odometry), else None.
+  // tracking_mode="odometry": {"tracked", "overlap", "ms", "world_from_frame"}
+  // (hope::Frame::Odometry), else None.
   py::object odometry = py::none();
   std::shared_ptr<const hope::Frame> frame;
   // Pipeline.process(obstacles=True): the input indices of the obstacle points (uint32), and
@@ -380,6 +381,7 @@ class PyPipeline {
       odometry["tracked"] = frame->odometry->tracked;
       odometry["overlap"] = frame->odometry->overlap;
       odometry["ms"] = frame->odometry->ms;
+      odometry["world_from_frame"] = Eigen::Matrix4d(frame->odometry->world_from_frame.matrix());
       out.odometry = odometry;
     }
     for (const auto& warning : out.result.warnings) {
@@ -831,7 +833,9 @@ PYBIND11_MODULE(_hope, m) {
       .def_readonly("odometry", &ExtractionResult::odometry,
                     "Pipeline.process with tracking_mode='odometry': a dict, tracked (the "
                     "frame aligned with the last), overlap (the share of its voxels that met the "
-                    "last frame's surfaces), ms; else None")
+                    "last frame's surfaces), ms, world_from_frame (4 x 4: this frame's "
+                    "reference-frame coordinates into the odometry's world, the map's frame); "
+                    "else None")
       .def_readonly("obstacles", &ExtractionResult::obstacles,
                     "Pipeline.process(obstacles=True): the indices (uint32, into the points "
                     "flattened) of the points between obstacle_min_height and "

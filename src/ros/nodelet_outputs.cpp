@@ -27,6 +27,22 @@ void PlaneExtractorNodelet::broadcastReference(const std_msgs::Header& cloud_hea
   tf_broadcaster_->sendTransform(t);
 }
 
+void PlaneExtractorNodelet::broadcastOdometry(const hope::Frame& frame,
+                                              const std_msgs::Header& header) {
+  // tf's transform is the child's pose in its parent: the world's origin and axes seen from
+  // this frame.
+  geometry_msgs::TransformStamped t =
+      tf2::eigenToTransform(frame.odometry->world_from_frame.inverse());
+  t.header = header;
+  t.child_frame_id = settings_.odometry_frame;
+  tf_broadcaster_->sendTransform(t);
+}
+
+std::string PlaneExtractorNodelet::mapFrame() const {
+  return pipeline_->options().identity == hope::Identity::kOdometry ? settings_.odometry_frame
+                                                                    : settings_.reference_frame;
+}
+
 void PlaneExtractorNodelet::broadcastView(const hope::Result& result,
                                           const std_msgs::Header& header) {
   const std::optional<Eigen::Vector3d> centre = sceneCentre(result.planes);
@@ -221,9 +237,13 @@ bool PlaneExtractorNodelet::resetMap(hope::ResetMap::Request& /*request*/,
   std::lock_guard<std::mutex> lock(processing_mutex_);
   response.removed = static_cast<std::uint32_t>(pipeline_->mapSize());
   pipeline_->resetMap();
+  {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    odometry_started_ = false;  // the odometry starts a new world with the map
+  }
   std_msgs::Header header;
   header.stamp = last_header_.stamp;
-  header.frame_id = settings_.reference_frame;
+  header.frame_id = mapFrame();
   publishMap(header);
   NODELET_INFO("hope: surface map reset (%u surfaces forgotten)", response.removed);
   return true;

@@ -62,6 +62,15 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
   s.view_frame = s.view_frame.empty()     ? ownFrame(node_name, "view")
                  : s.view_frame == "none" ? std::string()
                                           : frameId(s.view_frame);
+  pnh.param<std::string>("odometry_frame", s.odometry_frame, "");
+  s.odometry_frame = frameId(s.odometry_frame);
+  if (!s.odometry_frame.empty() && s.odometry_frame == s.reference_frame) {
+    problems.push_back("~odometry_frame '" + s.odometry_frame +
+                       "' is the reference frame (a frame cannot be its own child); using " +
+                       ownFrame(node_name, "odometry"));
+    s.odometry_frame.clear();
+  }
+  if (s.odometry_frame.empty()) s.odometry_frame = ownFrame(node_name, "odometry");
   if (s.source != "imu" && s.source != "tf" && s.source != "fixed" && s.source != "scene" &&
       s.source != "none") {
     problems.push_back("orientation_source '" + s.source +
@@ -166,13 +175,6 @@ hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
     if (identity == hope::Identity::kMap && !map_allowed) {
       throw std::invalid_argument(
           "the surface map needs orientation_source tf and a fixed reference_frame");
-    }
-    if (identity == hope::Identity::kOdometry) {
-      // Its planes lie in the odometry's world, which no tf frame names: published under the
-      // reference frame they would be misplaced.
-      throw std::invalid_argument(
-          "tracking_mode odometry is hope_extract's and Python's for now (its world is no tf "
-          "frame); use map with a fixed reference_frame, or improved");
     }
     result.identity = identity;
   } catch (const std::exception& e) {

@@ -27,6 +27,8 @@ struct StartupSettings {
   std::string reference_frame;  // output frame (tf: looked up; imu/fixed/scene: broadcast)
   bool refine = false;          // refine_orientation: the source's orientation corrected
   std::string view_frame;       // empty: not broadcast
+  // tracking_mode odometry: the odometry's world, broadcast as a child of the reference frame.
+  std::string odometry_frame;
   bool lazy = true;
   int tf_queue = 5;
   int cloud_queue = 3;
@@ -46,7 +48,8 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
 
 // The live-tunable part of `config` over `options` (start-up parts kept). Each part is checked
 // on its own: a bad value keeps the previous one of its part and appends a problem. `map_allowed`:
-// tracking_mode map needs tf and a fixed reference frame.
+// tracking_mode map needs tf and a fixed reference frame (odometry needs neither: it keeps the
+// map in a world of its own, ~odometry_frame).
 hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
                                  const hope::HopeConfig& config, bool map_allowed,
                                  std::vector<std::string>& problems);

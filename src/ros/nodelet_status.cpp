@@ -45,6 +45,13 @@ void PlaneExtractorNodelet::noteFrame(const hope::Frame& frame) {
   smoothed_up_ = pipeline_->smoothedUp();
   if (frame.levelling) last_levelling_ = frame.levelling->describe();
   if (!frame.skipped.empty()) last_level_problem_ = frame.skipped;
+  if (frame.odometry) {
+    if (frame.time_jump) odometry_started_ = false;
+    ++odometry_frames_;
+    odometry_not_aligned_ += !frame.odometry->tracked && odometry_started_ ? 1 : 0;
+    odometry_overlap_ = frame.odometry->overlap;
+    odometry_started_ = true;
+  }
 }
 
 void PlaneExtractorNodelet::noteTime(double ms) {
@@ -133,6 +140,12 @@ void PlaneExtractorNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper
                                                            std::to_string(smoothed_up_->z()));
   }
   status.add("reference frame", settings_.reference_frame);
+  if (odometry_frames_ > 0) {
+    status.add("odometry: frames followed", odometry_frames_);
+    status.add("odometry: frames not aligned with the last", odometry_not_aligned_);
+    status.add("odometry: last overlap", odometry_overlap_);
+    status.add("odometry: frame", settings_.odometry_frame);
+  }
 }
 
 }  // namespace hope_ros

@@ -85,11 +85,11 @@ void PlaneExtractorNodelet::onInit() {
   segment_srv_ = segment_nh.advertiseService("segment", &PlaneExtractorNodelet::segment, this);
   segment_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &segment_queue_);
   segment_spinner_->start();
-  if (source == "tf") {
-    map_pub_ = pnh.advertise<hope::PlaneArray>("map", 1, true);
-    map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);
-    reset_map_srv_ = pnh.advertiseService("reset_map", &PlaneExtractorNodelet::resetMap, this);
-  }
+  // Every source: tracking_mode odometry keeps the map without tf (and map or odometry may be
+  // chosen live).
+  map_pub_ = pnh.advertise<hope::PlaneArray>("map", 1, true);
+  map_markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("map_markers", 1, true);
+  reset_map_srv_ = pnh.advertiseService("reset_map", &PlaneExtractorNodelet::resetMap, this);
   NODELET_INFO("hope: orientation from %s%s, reference frame '%s', %s", source.c_str(),
                settings_.refine ? " refined by the scene" : "", settings_.reference_frame.c_str(),
                settings_.lazy ? "lazy: subscribing to the cloud only while an output has a "
@@ -317,10 +317,13 @@ void PlaneExtractorNodelet::process(const sensor_msgs::PointCloud2ConstPtr& clou
   if (!settings_.view_frame.empty()) broadcastView(result, header);
   if (switches_.publish_tf) broadcastThings(result, header);
   if (segmenting) answerSegments(frame, header);
-  if (pipeline_->options().identity == hope::Identity::kMap &&
+  if (frame.odometry) broadcastOdometry(frame, header);
+  if (hope::keepsSurfaceMap(pipeline_->options().identity) &&
       (!frame.events.empty() ||
        ros::WallTime::now() - last_map_publish_ > ros::WallDuration(1.0))) {
-    publishMap(header);
+    std_msgs::Header map_header = header;
+    map_header.frame_id = mapFrame();
+    publishMap(map_header);
   }
   last_header_ = header;
   if (switches_.placements) last_frame_ = std::move(frame);

@@ -88,6 +88,11 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // has one parent in tf; the cloud's frame usually has its own already).
   void broadcastReference(const std_msgs::Header& cloud_header,
                           const hope::Orientation& orientation);
+  // tracking_mode odometry: the odometry's world (~odometry_frame) as a child of the reference
+  // frame at the frame's stamp (`header`), where the scene odometry placed this frame in it.
+  void broadcastOdometry(const hope::Frame& frame, const std_msgs::Header& header);
+  // The frame the surface map's entries lie in: the odometry's world or the reference frame.
+  std::string mapFrame() const;
   // Broadcasts the view frame (level, under the reference frame) at the middle of what the
   // planes cover, eased from frame to frame: rviz/hope.rviz orbits it, so RViz frames any scene.
   void broadcastView(const hope::Result& result, const std_msgs::Header& header);
@@ -176,6 +181,11 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   std::optional<Eigen::Vector3d> smoothed_up_;
   std::string last_levelling_, last_level_problem_, last_problem_;
   std::string broadcast_parent_;  // the frame our reference frame hangs from
+  // tracking_mode odometry: frames it followed, frames after a world's first it could not align
+  // (the map's gates then keep what it misplaces from taking an id), and the last overlap.
+  std::size_t odometry_frames_ = 0, odometry_not_aligned_ = 0;
+  double odometry_overlap_ = 0;
+  bool odometry_started_ = false;  // false until a world's first frame (a reset starts anew)
 
   // Inputs last: destroyed first (the destructor also shuts them down before anything else).
   std::mutex connection_mutex_;

@@ -526,6 +526,7 @@ void writeFrameLine(std::ostream& jsonl, const std::string& file, const hope::Fr
   if (frame.odometry) {
     jsonl << ", \"odometry\": {\"tracked\": " << (frame.odometry->tracked ? "true" : "false")
           << ", \"overlap\": " << frame.odometry->overlap << ", \"ms\": " << frame.odometry->ms
+          << ", \"world_from_frame\": " << hope::tools::matrixJson(frame.odometry->world_from_frame)
           << "}";
   }
   if (!result.warnings.empty()) {

@@ -148,17 +148,21 @@ void writePlaneJson(std::ostream& out, const HorizontalPlane& p) {
   out << "]}";
 }
 
-std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference) {
-  const Eigen::Matrix4d m = sensor_to_reference.matrix();
-  std::string text = "\"sensor_to_reference\": [";
+std::string matrixJson(const Eigen::Isometry3d& transform) {
+  const Eigen::Matrix4d m = transform.matrix();
+  std::string text = "[";
   for (int r = 0; r < 4; ++r) {
     text += r ? ", [" : "[";
     for (int c = 0; c < 4; ++c) text += (c ? ", " : "") + number(m(r, c), 9);
     text += "]";
   }
+  return text + "]";
+}
+
+std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference) {
   const Eigen::Vector3d up = upInSensor(sensor_to_reference);
-  return text + "], \"up_in_sensor\": [" + number(up.x(), 9) + ", " + number(up.y(), 9) + ", " +
-         number(up.z(), 9) + "]";
+  return "\"sensor_to_reference\": " + matrixJson(sensor_to_reference) + ", \"up_in_sensor\": [" +
+         number(up.x(), 9) + ", " + number(up.y(), 9) + ", " + number(up.z(), 9) + "]";
 }
 
 std::string levellingJson(const UpEstimate& e) {

@@ -130,6 +130,13 @@ class FrontEndParity(unittest.TestCase):
             events = [(e["kind"], e["id"], e["other_id"]) for e in line["events"]]
             self.assertEqual(events, [(e.kind, e.id, e.other_id) for e in result.events], where)
             self.assertEqual("level_held" in line, result.level_held, where)
+            self.assertEqual("odometry" in line, result.odometry is not None, where)
+            if result.odometry is not None:
+                self.assertEqual(line["odometry"]["tracked"], result.odometry["tracked"], where)
+                # The JSON holds nine significant digits.
+                np.testing.assert_allclose(line["odometry"]["world_from_frame"],
+                                           result.odometry["world_from_frame"], atol=1e-7,
+                                           err_msg=where)
             compared_planes += len(planes)
             compared_objects += len(objects)
         # The scene holds a floor, a table, a book, a cabinet, two treads and the pattern

@@ -162,6 +162,18 @@ class JsonSchemaTest(unittest.TestCase):
             self.assertValid(line, {"$ref": "#/$defs/frame_line"})
         self.assertTrue(any(line.get("events") for line in lines))
         self.assertTrue(any(line.get("objects") for line in lines))
+        # With the accelerometer alone the scene's odometry keeps the map: its step in each line.
+        accel = os.path.join(self.tmp.name, "pan_accel.jsonl")
+        subprocess.run([EXTRACT, "--sequence", folder, "--accelerometer",
+                        os.path.join(folder, "accelerometer.txt"), "--jsonl", accel, "--quiet"],
+                       check=True, stderr=subprocess.DEVNULL)
+        with open(accel) as f:
+            lines = [json.loads(line) for line in f if line.strip()]
+        self.assertEqual(len(lines), 6)
+        for line in lines:
+            self.assertValid(line, {"$ref": "#/$defs/frame_line"})
+        self.assertTrue(all("odometry" in line for line in lines if "skipped" not in line))
+        self.assertTrue(any(line.get("odometry", {}).get("tracked") for line in lines))
 
     def test_python_to_dict(self):
         depth = cv2.imread(os.path.join(self.room, "depth.png"), cv2.IMREAD_UNCHANGED)

@@ -24,6 +24,9 @@ void printTable(std::ostream& out, const Result& result);
 void writeJson(std::ostream& out, const Result& result, const UpEstimate* levelling = nullptr,
                const std::vector<Placement>* placements = nullptr);
 
+// A transform as a JSON array of its 4 x 4 matrix's rows, 9 significant digits.
+std::string matrixJson(const Eigen::Isometry3d& transform);
+
 // The orientation a result was extracted with, as JSON members (no braces):
 // "sensor_to_reference": [[…], […], […], […]], "up_in_sensor": [x, y, z].
 std::string orientationJson(const Eigen::Isometry3d& sensor_to_reference);

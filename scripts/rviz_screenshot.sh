@@ -9,7 +9,10 @@
 #   docs/rviz_kitchen.png  a real recording: ../shared/data/kitchen_dev replayed the same way
 #                      with tracking_mode:=map, so the floor grid is every frame's laid over
 #                      each other, with ~obstacles (orange) over the labeled cloud (skipped
-#                      with a message when the data is absent).
+#                      with a message when the data is absent);
+#   docs/rviz_kitchen_odometry.png  the same recording with its accelerometer alone
+#                      (orientation_source:=imu, tracking_mode:=odometry): the surface map in
+#                      the frame of the scene's own odometry, which RViz holds still.
 # Needs: rviz xvfb imagemagick (scripts/install_deps.sh installs them).
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -81,3 +84,19 @@ done
 sleep 3
 import -window root "$root/docs/rviz_kitchen.png"
 echo "wrote docs/rviz_kitchen.png"
+
+# The same recording with its accelerometer alone: the scene's odometry keeps the map's frame.
+kill "${pids[-1]}" 2>/dev/null || true
+wait "${pids[-1]}" 2>/dev/null || true
+unset 'pids[-1]'
+log=$ROS_LOG_DIR/screenshot_kitchen_odometry.txt
+roslaunch -p 11399 hope tum.launch bag:="$root/build/rviz_kitchen.bag" orientation_source:=imu \
+  tracking_mode:=odometry rate:=0.5 >"$log" 2>&1 &
+pids+=($!)
+for _ in $(seq 1 240); do
+  grep -q "Done\." "$log" && break
+  sleep 1
+done
+sleep 3
+import -window root "$root/docs/rviz_kitchen_odometry.png"
+echo "wrote docs/rviz_kitchen_odometry.png"

@@ -98,8 +98,9 @@ TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
           Orientation::fromTransform(identity == Identity::kOdometry ? rotation_only
                                                                      : frames[f].camera.pose));
       EXPECT_EQ(frame.odometry.has_value(), identity == Identity::kOdometry);
-      if (frame.odometry && f > 0) {
-        EXPECT_TRUE(frame.odometry->tracked) << "frame " << f;
+      if (frame.odometry) {
+        EXPECT_EQ(frame.odometry->started, f == 0) << "frame " << f;
+        EXPECT_EQ(frame.odometry->tracked, f > 0) << "frame " << f;
       }
       ASSERT_TRUE(frame.processed) << frame.skipped;
       floor_ids.insert(idOfSurface(frame, frames[f].truth, 0));
@@ -439,6 +440,41 @@ TEST(FramePipeline, TimeGoingBackRestartsTheTracksAndNeverReusesAnId) {
   for (const auto& p : replay.result.planes) {
     EXPECT_FALSE(first_ids.count(p.id)) << "id " << p.id << " given twice";
   }
+}
+
+// The scene odometry's world ends with the time it was built in and with the map: a frame
+// after a time jump or resetMap() starts a new one (Frame::Odometry::started, its pose the
+// identity), which the front-ends do not count as a frame the odometry lost.
+TEST(FramePipeline, TheOdometryStartsANewWorldAfterATimeJumpAndAReset) {
+  const std::vector<RenderedCloud> frames = renderPan(8, 320);
+  PipelineOptions options;
+  options.identity = Identity::kOdometry;
+  FramePipeline pipeline(options);
+  const auto run = [&](int f, double stamp) {
+    Eigen::Isometry3d rotation_only = frames[f].camera.pose;
+    rotation_only.translation().setZero();
+    const Frame frame = pipeline.process(PointsView::of(frames[f].cloud), stamp,
+                                         Orientation::fromTransform(rotation_only));
+    EXPECT_TRUE(frame.odometry) << "frame " << f;
+    return frame.odometry.value_or(Frame::Odometry());
+  };
+  std::vector<Frame::Odometry> first_pass;
+  for (int f = 0; f < 3; ++f) {
+    first_pass.push_back(run(f, 10.0 + f / 30.0));
+    EXPECT_EQ(first_pass.back().started, f == 0) << "frame " << f;
+    EXPECT_EQ(first_pass.back().tracked, f > 0) << "frame " << f;
+  }
+  // The bag looped: the same frames again, the same steps from a new world.
+  for (int f = 0; f < 3; ++f) {
+    const Frame::Odometry again = run(f, 10.0 + f / 30.0);
+    EXPECT_EQ(again.started, f == 0) << "frame " << f << " after the time jump";
+    EXPECT_EQ(again.tracked, first_pass[f].tracked) << "frame " << f;
+    EXPECT_TRUE(again.world_from_frame.isApprox(first_pass[f].world_from_frame, 1e-9))
+        << "frame " << f;
+  }
+  pipeline.resetMap();
+  EXPECT_TRUE(run(3, 10.0 + 3 / 30.0).started) << "resetMap() starts a new world";
+  EXPECT_FALSE(run(4, 10.0 + 4 / 30.0).started);
 }
 
 // The map needs the sensor's pose in a fixed frame. Poses that turn the sensor by more than 10°

@@ -65,6 +65,8 @@ TEST(SceneOdometry, TheDemoRoomSeenFromTwoPosesGivesTheMotionBetweenThem) {
     steps.push_back(odometry.update(PointsView::of(cloud), gravityOnly(camera.pose.linear())));
   }
   EXPECT_FALSE(steps[0].tracked) << "the first frame starts the world";
+  EXPECT_TRUE(steps[0].started);
+  EXPECT_FALSE(steps[1].started);
   EXPECT_TRUE(steps[0].world_from_frame.isApprox(Eigen::Isometry3d::Identity()));
   ASSERT_TRUE(steps[1].tracked) << "overlap " << steps[1].overlap;
   const Eigen::Isometry3d truth = trueStep(first.pose, second.pose);

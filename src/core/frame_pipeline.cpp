@@ -416,6 +416,7 @@ Frame FramePipeline::extractAndIdentify(const PointsView& cloud, Frame frame,
     world_from_frame = step.world_from_frame;
     Frame::Odometry report;
     report.tracked = step.tracked;
+    report.started = step.started;
     report.overlap = step.overlap;
     report.world_from_frame = step.world_from_frame;
     report.ms =

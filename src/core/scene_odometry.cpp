@@ -339,6 +339,7 @@ OdometryStep SceneOdometry::update(const PointsView& cloud,
     world_from_last_.setIdentity();
     last_motion_ = Motion();
     step.world_from_frame = world_from_last_;
+    step.started = true;
     last_ = std::move(levels);
     return step;
   }

@@ -48,7 +48,7 @@ struct ExtractionResult {
   std::vector<hope::TrackEvent> events;
   std::string skipped;
   bool level_held = false, time_jump = false;
-  // tracking_mode="odometry": {"tracked", "overlap", "ms", "world_from_frame"}
+  // tracking_mode="odometry": {"tracked", "started", "overlap", "ms", "world_from_frame"}
   // (hope::Frame::Odometry), else None.
   py::object odometry = py::none();
   std::shared_ptr<const hope::Frame> frame;
@@ -379,6 +379,7 @@ class PyPipeline {
     if (frame->odometry) {
       py::dict odometry;
       odometry["tracked"] = frame->odometry->tracked;
+      odometry["started"] = frame->odometry->started;
       odometry["overlap"] = frame->odometry->overlap;
       odometry["ms"] = frame->odometry->ms;
       odometry["world_from_frame"] = Eigen::Matrix4d(frame->odometry->world_from_frame.matrix());
@@ -832,7 +833,8 @@ PYBIND11_MODULE(_hope, m) {
                     "Pipeline.process: the stamp went back; tracks started afresh")
       .def_readonly("odometry", &ExtractionResult::odometry,
                     "Pipeline.process with tracking_mode='odometry': a dict, tracked (the "
-                    "frame aligned with the last), overlap (the share of its voxels that met the "
+                    "frame aligned with the last), started (the frame began the odometry's "
+                    "world), overlap (the share of its voxels that met the "
                     "last frame's surfaces), ms, world_from_frame (4 x 4: this frame's "
                     "reference-frame coordinates into the odometry's world, the map's frame); "
                     "else None")

@@ -237,10 +237,6 @@ bool PlaneExtractorNodelet::resetMap(hope::ResetMap::Request& /*request*/,
   std::lock_guard<std::mutex> lock(processing_mutex_);
   response.removed = static_cast<std::uint32_t>(pipeline_->mapSize());
   pipeline_->resetMap();
-  {
-    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    odometry_started_ = false;  // the odometry starts a new world with the map
-  }
   std_msgs::Header header;
   header.stamp = last_header_.stamp;
   header.frame_id = mapFrame();

@@ -46,11 +46,9 @@ void PlaneExtractorNodelet::noteFrame(const hope::Frame& frame) {
   if (frame.levelling) last_levelling_ = frame.levelling->describe();
   if (!frame.skipped.empty()) last_level_problem_ = frame.skipped;
   if (frame.odometry) {
-    if (frame.time_jump) odometry_started_ = false;
     ++odometry_frames_;
-    odometry_not_aligned_ += !frame.odometry->tracked && odometry_started_ ? 1 : 0;
+    odometry_not_aligned_ += !frame.odometry->tracked && !frame.odometry->started ? 1 : 0;
     odometry_overlap_ = frame.odometry->overlap;
-    odometry_started_ = true;
   }
 }
 

@@ -185,7 +185,6 @@ class PlaneExtractorNodelet : public nodelet::Nodelet {
   // (the map's gates then keep what it misplaces from taking an id), and the last overlap.
   std::size_t odometry_frames_ = 0, odometry_not_aligned_ = 0;
   double odometry_overlap_ = 0;
-  bool odometry_started_ = false;  // false until a world's first frame (a reset starts anew)
 
   // Inputs last: destroyed first (the destructor also shuts them down before anything else).
   std::mutex connection_mutex_;

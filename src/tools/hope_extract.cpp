@@ -525,6 +525,7 @@ void writeFrameLine(std::ostream& jsonl, const std::string& file, const hope::Fr
   }
   if (frame.odometry) {
     jsonl << ", \"odometry\": {\"tracked\": " << (frame.odometry->tracked ? "true" : "false")
+          << ", \"started\": " << (frame.odometry->started ? "true" : "false")
           << ", \"overlap\": " << frame.odometry->overlap << ", \"ms\": " << frame.odometry->ms
           << ", \"world_from_frame\": " << hope::tools::matrixJson(frame.odometry->world_from_frame)
           << "}";
@@ -678,7 +679,7 @@ int runSequence(const Options& o) {
   std::vector<double> objects_per_frame;  // when the outputs ask for objects
   std::string first_uncorrected;
   double extract_ms = 0, track_ms = 0, level_ms = 0, odometry_ms = 0;
-  std::size_t odometry_untracked = 0;  // frames after the first the odometry could not align
+  std::size_t odometry_untracked = 0;  // frames the odometry could not align (not a world's first)
   // What the outputs show: objects in the JSON lines and overlays, the points for overlays and
   // the map's extents.
   hope::FrameOutputs wanted;
@@ -754,7 +755,7 @@ int runSequence(const Options& o) {
     if (result.levelling) level_ms += result.levelling->time_ms;
     if (result.odometry) {
       odometry_ms += result.odometry->ms;
-      odometry_untracked += !result.odometry->tracked && processed > 0;
+      odometry_untracked += !result.odometry->tracked && !result.odometry->started;
     }
     if (!result.processed) {
       // Nothing level in view, and no earlier up to hold: skipped, not guessed; the tracker

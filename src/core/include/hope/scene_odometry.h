@@ -63,6 +63,8 @@ struct OdometryStep {
   // False on the first frame (the world starts there) and where no starting motion reached
   // min_overlap (the best one is used: the map's own gates reject what it misplaces).
   bool tracked = false;
+  // This frame began the world: the first frame, or the first after reset().
+  bool started = false;
 };
 
 class SceneOdometry {

@@ -47,56 +47,44 @@ for p in "${pids[@]:1}"; do kill "$p" 2>/dev/null || true; done
 pids=("${pids[0]}")
 kill "$core"; wait "$core" 2>/dev/null || true
 
-# Another scene, replayed by name through tum.launch (its own master; RViz waits to be there
-# before the player starts, as hope is lazy while RViz listens).
+# Replays BAG through tum.launch with ARGS... (its own master; RViz waits to be there before the
+# player starts, as hope is lazy while RViz listens), waits up to SECONDS for the player to
+# finish, and takes docs/NAME.png; the launch stays up until the next replay stops it.
+replay_and_shoot() {
+  local name=$1 bag=$2 seconds=$3
+  shift 3
+  if [ "${#pids[@]}" -gt 1 ]; then  # the last replay's launch
+    kill "${pids[-1]}" 2>/dev/null || true
+    wait "${pids[-1]}" 2>/dev/null || true
+    unset 'pids[-1]'
+  fi
+  local log=$ROS_LOG_DIR/screenshot_$name.txt
+  roslaunch -p 11399 hope tum.launch bag:="$bag" rate:=0.5 "$@" >"$log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 1 "$seconds"); do
+    grep -q "Done\." "$log" && break
+    sleep 1
+  done
+  sleep 3
+  import -window root "$root/docs/$name.png"
+  echo "wrote docs/$name.png"
+}
+
+# Another scene, replayed by name as a user replays a TUM folder.
 pan=$root/build/rviz_pan
 rm -rf "$pan"
 "$root/build/devel/lib/hope/hope_synth" --out "$pan" --sequence pan --frames 45 >/dev/null
 /usr/bin/python3 "$root/scripts/tum_to_bag.py" "$pan" "$pan.bag"
-roslaunch -p 11399 hope tum.launch bag:="$pan.bag" rate:=0.5 >"$ROS_LOG_DIR/screenshot_pan.txt" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 90); do
-  grep -q "Done\." "$ROS_LOG_DIR/screenshot_pan.txt" && break
-  sleep 1
-done
-sleep 3
-import -window root "$root/docs/rviz_pan.png"
-echo "wrote docs/rviz_pan.png"
+replay_and_shoot rviz_pan "$pan.bag" 90
 
-# A real kitchen, replayed the same way, the map accumulating the floor grid.
+# A real kitchen, replayed the same way, the map accumulating the floor grid; then with its
+# accelerometer alone, the scene's odometry keeping the map's frame.
 kitchen=$root/../shared/data/kitchen_dev
 if [ ! -d "$kitchen" ]; then
-  echo "no $kitchen: docs/rviz_kitchen.png not made"
+  echo "no $kitchen: docs/rviz_kitchen.png and rviz_kitchen_odometry.png not made"
   exit 0
 fi
-kill "${pids[-1]}" 2>/dev/null || true
-wait "${pids[-1]}" 2>/dev/null || true
-unset 'pids[-1]'
 /usr/bin/python3 "$root/scripts/tum_to_bag.py" "$kitchen" "$root/build/rviz_kitchen.bag"
-log=$ROS_LOG_DIR/screenshot_kitchen.txt
-roslaunch -p 11399 hope tum.launch bag:="$root/build/rviz_kitchen.bag" tracking_mode:=map \
-  rate:=0.5 >"$log" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 240); do
-  grep -q "Done\." "$log" && break
-  sleep 1
-done
-sleep 3
-import -window root "$root/docs/rviz_kitchen.png"
-echo "wrote docs/rviz_kitchen.png"
-
-# The same recording with its accelerometer alone: the scene's odometry keeps the map's frame.
-kill "${pids[-1]}" 2>/dev/null || true
-wait "${pids[-1]}" 2>/dev/null || true
-unset 'pids[-1]'
-log=$ROS_LOG_DIR/screenshot_kitchen_odometry.txt
-roslaunch -p 11399 hope tum.launch bag:="$root/build/rviz_kitchen.bag" orientation_source:=imu \
-  tracking_mode:=odometry rate:=0.5 >"$log" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 240); do
-  grep -q "Done\." "$log" && break
-  sleep 1
-done
-sleep 3
-import -window root "$root/docs/rviz_kitchen_odometry.png"
-echo "wrote docs/rviz_kitchen_odometry.png"
+replay_and_shoot rviz_kitchen "$root/build/rviz_kitchen.bag" 240 tracking_mode:=map
+replay_and_shoot rviz_kitchen_odometry "$root/build/rviz_kitchen.bag" 240 \
+  orientation_source:=imu tracking_mode:=odometry

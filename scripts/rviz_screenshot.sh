@@ -88,3 +88,5 @@ fi
 replay_and_shoot rviz_kitchen "$root/build/rviz_kitchen.bag" 240 tracking_mode:=map
 replay_and_shoot rviz_kitchen_odometry "$root/build/rviz_kitchen.bag" 240 \
   orientation_source:=imu tracking_mode:=odometry
+# What the odometry says of the replay: frames followed, frames not aligned with the last.
+rostopic echo -n 1 /diagnostics | grep -A1 '"odometry: frames' | grep -o '"[^"]*"' | paste - -

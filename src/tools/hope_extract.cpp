@@ -114,13 +114,12 @@ hope::tools::CommandLine commandLine() {
              "tracker) or paper (NNPM of §2.5, Eq 11-14)")
       .value("--map-forget", "N",
              "with --tracking map or odometry: a surface not seen in N frames in a row takes a new "
-             "id when "
-             "seen again, as the tracker's ids end (default 30; 0: never)")
+             "id when seen again, as the tracker's ids end (default 30; 0: never)")
       .value("--map", "FILE.json", "with --tracking map or odometry: the final map of the surfaces")
       .value("--map-extents", "FILE.md",
              "with --tracking map or odometry: each entry's outline against the union of all "
-             "points given "
-             "its id (area ratio, IoU in xy on a 2 cm grid), largest first, as a Markdown table")
+             "points given its id (area ratio, IoU in xy on a 2 cm grid), largest first, as a "
+             "Markdown table")
       .value("--jsonl", "FILE",
              "one JSON line per frame: {\"stamp\", \"file\", \"planes\": [...], \"events\"}")
       .value("--overlay-dir", "DIR", "one overlay PNG per frame, named by stamp")
@@ -832,7 +831,7 @@ int runSequence(const Options& o) {
                 plan.levelling == hope::SceneLevelling::kEstimate ? "levelling" : "refinement",
                 level_ms / n);
   }
-  if (tracking == hope::toString(hope::Identity::kOdometry)) {
+  if (pipeline.options().identity == hope::Identity::kOdometry) {
     std::printf(", odometry %.2f ms/frame (%zu not aligned)", odometry_ms / n, odometry_untracked);
   }
   if (!objects_per_frame.empty()) {

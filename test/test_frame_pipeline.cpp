@@ -85,19 +85,23 @@ double tiltErrorDeg(const Orientation& orientation, const synthetic::Camera& cam
 // poses' rotation: the odometry finds where the sensor is).
 TEST(FramePipeline, TheMapAndTheTrackerKeepTheFloorsAndTablesIdOverAPan) {
   const std::vector<RenderedCloud> frames = renderPan(8, 320);
-  for (Identity identity : {Identity::kMap, Identity::kImproved, Identity::kOdometry}) {
+  // kAuto, the default, with an orientation alone: a pipeline told nothing of a fixed frame
+  // takes the odometry.
+  for (Identity identity :
+       {Identity::kMap, Identity::kImproved, Identity::kOdometry, Identity::kAuto}) {
     PipelineOptions options;
     options.identity = identity;
     FramePipeline pipeline(options);
+    const bool odometry = identity == Identity::kOdometry || identity == Identity::kAuto;
+    EXPECT_EQ(pipeline.options().identity, odometry ? Identity::kOdometry : identity);
     std::set<int> floor_ids, table_ids, floor_surface_ids;
     for (std::size_t f = 0; f < frames.size(); ++f) {
       Eigen::Isometry3d rotation_only = frames[f].camera.pose;
       rotation_only.translation().setZero();
       const Frame frame = pipeline.process(
           PointsView::of(frames[f].cloud), f / 30.0,
-          Orientation::fromTransform(identity == Identity::kOdometry ? rotation_only
-                                                                     : frames[f].camera.pose));
-      EXPECT_EQ(frame.odometry.has_value(), identity == Identity::kOdometry);
+          Orientation::fromTransform(odometry ? rotation_only : frames[f].camera.pose));
+      EXPECT_EQ(frame.odometry.has_value(), odometry);
       if (frame.odometry) {
         EXPECT_EQ(frame.odometry->started, f == 0) << "frame " << f;
         EXPECT_EQ(frame.odometry->tracked, f > 0) << "frame " << f;
@@ -611,6 +615,19 @@ TEST(FramePipeline, NewOptionsRestartTheMapOnlyWhenItsCellsChangeAndBadOnesChang
   EXPECT_THROW(FramePipeline{smoothing}, std::invalid_argument);
   EXPECT_EQ(identityFromString("map"), Identity::kMap);
   EXPECT_THROW(identityFromString("nearest"), std::invalid_argument);
+  // auto: the map where the input is poses in a fixed frame, the odometry otherwise; every
+  // front-end resolves it with this rule.
+  EXPECT_EQ(identityFromString("auto"), Identity::kAuto);
+  EXPECT_STREQ(toString(Identity::kAuto), "auto");
+  EXPECT_EQ(PipelineOptions().identity, Identity::kAuto);
+  EXPECT_EQ(defaultIdentity(PoseInput::kFixedFramePoses), Identity::kMap);
+  EXPECT_EQ(defaultIdentity(PoseInput::kOrientation), Identity::kOdometry);
+  EXPECT_EQ(resolveIdentity(Identity::kAuto, PoseInput::kFixedFramePoses), Identity::kMap);
+  EXPECT_EQ(resolveIdentity(Identity::kImproved, PoseInput::kFixedFramePoses), Identity::kImproved);
+  PipelineOptions automatic = pipeline.options();
+  automatic.identity = Identity::kAuto;
+  pipeline.setOptions(automatic);
+  EXPECT_EQ(pipeline.options().identity, Identity::kOdometry);
   EXPECT_EQ(sceneLevellingFromString("refine"), SceneLevelling::kRefine);
 }
 

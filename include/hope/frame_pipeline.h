@@ -50,18 +50,42 @@ const char* toString(SceneLevelling levelling);
 
 // How ids persist across frames.
 enum class Identity {
-  kImproved,  // the improved tracker (plane_tracker.h), frame to frame: the default
+  kImproved,  // the improved tracker (plane_tracker.h), frame to frame
   kPaper,     // the paper's nearest-neighbour plane matching (§2.5)
   kMap,       // a map of the surfaces (surface_map.h): needs poses in a fixed frame
   // The same map in a frame the scene's own odometry keeps fixed (scene_odometry.h): for an
   // orientation alone (an IMU, an accelerometer, up from the scene, rotation-only poses).
   kOdometry,
+  // What fits the input (defaultIdentity): the front-end that knows its input resolves it
+  // (resolveIdentity); a FramePipeline given it unresolved takes kOdometry, since nothing tells
+  // it that its orientations are poses in a fixed frame.
+  kAuto,
 };
 
-// Whether `identity` keeps the surface map (kMap, kOdometry).
+// What a front-end is given of the sensor's pose, for the default identity.
+enum class PoseInput {
+  // Poses in a frame fixed in the world, whose positions change as the sensor moves (ground
+  // truth, a SLAM system's poses, Python's pose= or transform=).
+  kFixedFramePoses,
+  // An orientation alone: an IMU, an accelerometer, a fixed rotation, up from the scene, tf
+  // into a frame that may move with the robot, or poses whose position never changes.
+  kOrientation,
+};
+
+// The identity that fits `input`: the surface map for poses in a fixed frame, the same map in
+// the scene odometry's world otherwise. Each beats the improved tracker on every dev sequence
+// at every frame rate tried (docs/id_rates.md: kitchen_dev with poses 87.4 % against 73.0 %,
+// with the accelerometer 85.2 % against 70.4 %); the odometry works in any frame, so it is
+// the default wherever the frame's fixedness is unknown.
+Identity defaultIdentity(PoseInput input);
+// kAuto replaced by defaultIdentity(input); any other identity is kept.
+Identity resolveIdentity(Identity identity, PoseInput input);
+
+// Whether `identity` keeps the surface map (kMap, kOdometry, and kAuto, which resolves to one).
 bool keepsSurfaceMap(Identity identity);
 
-// "improved", "paper", "map" or "odometry"; throws std::invalid_argument for anything else.
+// "auto", "improved", "paper", "map" or "odometry"; throws std::invalid_argument for anything
+// else.
 Identity identityFromString(const std::string& name);
 const char* toString(Identity identity);
 
@@ -70,7 +94,7 @@ struct PipelineOptions {
   // What stands on the planes, computed in frames that ask for it (FrameOutputs::objects).
   bool objects = true;
   ObjectParams object_params;
-  Identity identity = Identity::kImproved;
+  Identity identity = Identity::kAuto;
   SceneLevelling levelling = SceneLevelling::kOff;
   // The largest correction a refinement makes, degrees.
   double level_bound_deg = 5.0;

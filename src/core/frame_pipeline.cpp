@@ -20,6 +20,12 @@ namespace hope {
 
 namespace {
 
+// Identity::kAuto as a pipeline that knows nothing of a fixed frame takes it (frame_pipeline.h).
+PipelineOptions withIdentityResolved(PipelineOptions options) {
+  options.identity = resolveIdentity(options.identity, PoseInput::kOrientation);
+  return options;
+}
+
 TrackerOptions trackerOptionsFor(Identity identity) {
   TrackerOptions options;
   options.mode = identity == Identity::kPaper ? TrackingMode::kPaper : TrackingMode::kImproved;
@@ -99,13 +105,22 @@ const char* toString(SceneLevelling levelling) {
   return "off";
 }
 
+Identity defaultIdentity(PoseInput input) {
+  return input == PoseInput::kFixedFramePoses ? Identity::kMap : Identity::kOdometry;
+}
+
+Identity resolveIdentity(Identity identity, PoseInput input) {
+  return identity == Identity::kAuto ? defaultIdentity(input) : identity;
+}
+
 Identity identityFromString(const std::string& name) {
+  if (name == "auto") return Identity::kAuto;
   if (name == "improved") return Identity::kImproved;
   if (name == "paper") return Identity::kPaper;
   if (name == "map") return Identity::kMap;
   if (name == "odometry") return Identity::kOdometry;
   throw std::invalid_argument("tracking '" + name +
-                              "' is not one of improved, paper, map, odometry");
+                              "' is not one of auto, improved, paper, map, odometry");
 }
 
 const char* toString(Identity identity) {
@@ -116,6 +131,8 @@ const char* toString(Identity identity) {
       return "map";
     case Identity::kOdometry:
       return "odometry";
+    case Identity::kAuto:
+      return "auto";
     case Identity::kImproved:
       break;
   }
@@ -123,7 +140,8 @@ const char* toString(Identity identity) {
 }
 
 bool keepsSurfaceMap(Identity identity) {
-  return identity == Identity::kMap || identity == Identity::kOdometry;
+  return identity == Identity::kMap || identity == Identity::kOdometry ||
+         identity == Identity::kAuto;
 }
 
 void validate(const PipelineOptions& options) {
@@ -162,19 +180,20 @@ void validate(const PipelineOptions& options) {
 }
 
 FramePipeline::FramePipeline(const PipelineOptions& options)
-    : options_((validate(options), options)),
+    : options_((validate(options), withIdentityResolved(options))),
       extractor_(options.extraction),
       up_smoother_(std::make_unique<UpSmoother>(options.level_smoothing)),
-      tracker_(trackerOptionsFor(options.identity)),
-      map_(mapOptionsFor(options)),
+      tracker_(trackerOptionsFor(options_.identity)),
+      map_(mapOptionsFor(options_)),
       floor_map_(std::make_unique<FloorMap>()),
       surfaces_(std::make_unique<SurfaceGrouping>(surfaceGroupingOptionsFor(options.extraction))),
       odometry_(std::make_unique<SceneOdometry>(odometryParamsFor(options.extraction))) {}
 
 FramePipeline::~FramePipeline() = default;
 
-std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& options) {
-  validate(options);
+std::vector<std::string> FramePipeline::setOptions(const PipelineOptions& given) {
+  validate(given);
+  const PipelineOptions options = withIdentityResolved(given);
   std::vector<std::string> notes;
   extractor_ = Extractor(options.extraction);
   if (options.identity != options_.identity) {

@@ -87,17 +87,17 @@ std::vector<ParameterSpec> makeTable() {
   tracking.option = "--tracking";
   tracking.type = ParameterSpec::Type::kChoice;
   tracking.default_choice = toString(d.identity);
-  tracking.choices = {"improved", "paper", "map", "odometry"};
+  tracking.choices = {"auto", "improved", "paper", "map", "odometry"};
   tracking.stage = "plane matching (§2.5)";
   tracking.live = true;
   tracking.doc =
-      "persistent ids: the improved tracker, the paper's NNPM, a map of the surfaces (poses "
-      "in a fixed frame only), or that map in the frame of the scene's own odometry (an "
-      "orientation only)";
+      "persistent ids: auto (map with poses in a fixed frame, else odometry), the improved "
+      "tracker, the paper's NNPM, a map of the surfaces (poses in a fixed frame only), or that "
+      "map in the frame of the scene's own odometry (an orientation only)";
   tracking.set = [](PipelineOptions& o, double v) {
-    static const Identity kByChoice[] = {Identity::kImproved, Identity::kPaper, Identity::kMap,
-                                         Identity::kOdometry};
-    o.identity = kByChoice[std::min(3, std::max(0, static_cast<int>(v)))];
+    static const Identity kByChoice[] = {Identity::kAuto, Identity::kImproved, Identity::kPaper,
+                                         Identity::kMap, Identity::kOdometry};
+    o.identity = kByChoice[std::min(4, std::max(0, static_cast<int>(v)))];
   };
   t.push_back(tracking);
   t.push_back(typed(number("objects", "--no-objects", d.objects, 0, 1, "", "standing objects", true,

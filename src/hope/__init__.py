@@ -11,7 +11,7 @@
 A stream, with the nodelet's and hope_extract --sequence's policy (persistent ids, objects,
 an accelerometer averaged over a window, up from the scene smoothed and held):
 
-    pipeline = hope.Pipeline(tracking_mode="improved", levelling="off")
+    pipeline = hope.Pipeline(levelling="off")  # tracking_mode "auto": odometry for gravity
     for stamp, points, gravity in frames:
         frame = pipeline.process(points, stamp, gravity=gravity)
         print([(p.id, p.height) for p in frame.planes], len(frame.objects))

@@ -331,7 +331,8 @@ class PyExtractor {
 // hope_extract --sequence, frame by frame.
 class PyPipeline {
  public:
-  explicit PyPipeline(const hope::PipelineOptions& options) : pipeline_(options) {}
+  explicit PyPipeline(const hope::PipelineOptions& options)
+      : pipeline_(options), identity_asked_(options.identity) {}
 
   ExtractionResult process(const py::array& points, double stamp, const py::object& gravity,
                            const py::object& quaternion, const py::object& pose,
@@ -366,6 +367,17 @@ class PyPipeline {
     {
       py::gil_scoped_release released;
       std::lock_guard<std::mutex> lock(mutex_);
+      // tracking_mode='auto': the first frame's orientation says what the input is, a pose or
+      // transform being one in a fixed frame (hope::defaultIdentity).
+      if (identity_asked_ == hope::Identity::kAuto) {
+        const hope::PoseInput input = pose.is_none() && transform.is_none()
+                                          ? hope::PoseInput::kOrientation
+                                          : hope::PoseInput::kFixedFramePoses;
+        hope::PipelineOptions resolved = pipeline_.options();
+        resolved.identity = hope::defaultIdentity(input);
+        pipeline_.setOptions(resolved);
+        identity_asked_ = resolved.identity;
+      }
       *frame = force ? pipeline_.processWithGravity(view, stamp, *force, outputs, at)
                      : pipeline_.process(view, stamp, given, outputs);
     }
@@ -446,9 +458,16 @@ class PyPipeline {
     return pipeline_.mapSurfaces();
   }
   const hope::PipelineOptions& options() const { return pipeline_.options(); }
+  // "auto" until the first frame resolves it.
+  std::string trackingMode() const {
+    return hope::toString(identity_asked_ == hope::Identity::kAuto ? identity_asked_
+                                                                   : pipeline_.options().identity);
+  }
 
  private:
   hope::FramePipeline pipeline_;
+  // kAuto until the first frame resolves it.
+  hope::Identity identity_asked_;
   std::mutex mutex_;
 };
 
@@ -1040,8 +1059,9 @@ PYBIND11_MODULE(_hope, m) {
            "placements=True) result): dicts plane_id, x, y, z, yaw, margin, best first.")
       .def("map_surfaces", &PyPipeline::mapSurfaces,
            "tracking_mode='map': the map's entries as Planes, oldest first")
-      .def_property_readonly(
-          "tracking_mode", [](const PyPipeline& p) { return hope::toString(p.options().identity); })
+      .def_property_readonly("tracking_mode", &PyPipeline::trackingMode,
+                             "the tracking mode in effect: 'auto' until the first frame, then "
+                             "'map' for a pose or transform, 'odometry' otherwise")
       .def_property_readonly(
           "levelling", [](const PyPipeline& p) { return hope::toString(p.options().levelling); });
 

@@ -125,6 +125,16 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
         s.source + " the planes' frame moves with the sensor; using the tracker");
     s.surface_map = false;
   }
+  if (s.source == "tf" && (s.reference_frame == "map" || s.reference_frame == "odom" ||
+                           s.reference_frame == "world" || s.reference_frame == "earth")) {
+    s.pose_input = hope::PoseInput::kFixedFramePoses;
+  } else if (s.source == "tf" && !s.surface_map &&
+             pnh.param<std::string>("tracking_mode", "auto") == "auto") {
+    notes.push_back("tracking_mode auto: odometry, since reference_frame '" + s.reference_frame +
+                    "' is not one REP 105 names fixed in the world (map, odom, world, earth); "
+                    "set tracking_mode map if it is fixed");
+  }
+  p.identity = hope::defaultIdentity(s.pose_input);
   if ((s.source == "imu" || s.source == "fixed" || s.source == "scene") &&
       s.reference_frame.empty()) {
     // Broadcast: z up, origin at the sensor. Named after this nodelet, so two hope nodelets
@@ -152,7 +162,7 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
 
 hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
                                  const hope::HopeConfig& config, bool map_allowed,
-                                 std::vector<std::string>& problems) {
+                                 hope::PoseInput input, std::vector<std::string>& problems) {
   hope::PipelineOptions result = options;
   hope::Params params;
   params.r_xy = config.r_xy;
@@ -171,7 +181,8 @@ hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
     problems.push_back(std::string("keeping the previous extraction parameters: ") + e.what());
   }
   try {
-    const hope::Identity identity = hope::identityFromString(config.tracking_mode);
+    const hope::Identity identity =
+        hope::resolveIdentity(hope::identityFromString(config.tracking_mode), input);
     if (identity == hope::Identity::kMap && !map_allowed) {
       throw std::invalid_argument(
           "the surface map needs orientation_source tf and a fixed reference_frame");

@@ -37,6 +37,10 @@ struct StartupSettings {
   hope::PipelineOptions pipeline;
   // surface_map (the old name of tracking_mode map) was asked for.
   bool surface_map = false;
+  // What tracking_mode auto resolves with: poses in a fixed frame for orientation_source tf
+  // into a frame REP 105 names fixed in the world (map, odom, world, earth), else an
+  // orientation alone (hope cannot tell whether another frame moves with the robot).
+  hope::PoseInput pose_input = hope::PoseInput::kOrientation;
 };
 
 // Reads and checks the start-up parameters of the nodelet `node_name` from `pnh`. Each problem
@@ -49,10 +53,10 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
 // The live-tunable part of `config` over `options` (start-up parts kept). Each part is checked
 // on its own: a bad value keeps the previous one of its part and appends a problem. `map_allowed`:
 // tracking_mode map needs tf and a fixed reference frame (odometry needs neither: it keeps the
-// map in a world of its own, ~odometry_frame).
+// map in a world of its own, ~odometry_frame). tracking_mode auto is resolved with `input`.
 hope::PipelineOptions withConfig(const hope::PipelineOptions& options,
                                  const hope::HopeConfig& config, bool map_allowed,
-                                 std::vector<std::string>& problems);
+                                 hope::PoseInput input, std::vector<std::string>& problems);
 // What is in effect, written back into `config` so that the parameter server and the reported
 // config never show a value that was refused.
 void writeConfig(const hope::PipelineOptions& options, hope::HopeConfig& config);

@@ -346,7 +346,8 @@ void PlaneExtractorNodelet::takePendingOptions() {
 void PlaneExtractorNodelet::reconfigure(hope::HopeConfig& config, uint32_t /*level*/) {
   std::lock_guard<std::mutex> lock(pending_mutex_);
   std::vector<std::string> problems;
-  pending_options_ = withConfig(pending_options_, config, settings_.source == "tf", problems);
+  pending_options_ = withConfig(pending_options_, config, settings_.source == "tf",
+                                settings_.pose_input, problems);
   for (const auto& p : problems) NODELET_WARN("hope: %s", p.c_str());
   pending_switches_.placements = config.placements;
   pending_switches_.object_points = config.object_points;

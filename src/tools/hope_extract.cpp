@@ -108,10 +108,10 @@ hope::tools::CommandLine commandLine() {
              "largest frame-to-orientation gap (default 0.02 s); frames without an orientation "
              "that close are skipped and counted")
       .value("--tracking", "MODE",
-             "map (default with world poses: one id per surface until it is unseen in "
-             "--map-forget frames, extents grown over frames), odometry (default otherwise: the "
-             "same map in the frame of the scene's own odometry), improved (the frame-to-frame "
-             "tracker) or paper (NNPM of §2.5, Eq 11-14)")
+             "auto (the default: map with world poses whose position changes, else odometry), "
+             "map (one id per surface until it is unseen in --map-forget frames, extents grown "
+             "over frames), odometry (the same map in the frame of the scene's own odometry), "
+             "improved (the frame-to-frame tracker) or paper (NNPM of §2.5, Eq 11-14)")
       .value("--map-forget", "N",
              "with --tracking map or odometry: a surface not seen in N frames in a row takes a new "
              "id when seen again, as the tracker's ids end (default 30; 0: never)")
@@ -579,11 +579,9 @@ int runSequence(const Options& o) {
   // World poses put every frame in one fixed frame: then a map of the surfaces keeps each one
   // entry for the whole run (its id until --map-forget frames unseen). Gravity alone leaves the
   // camera's position unknown: the scene's own odometry finds it, and the same map is kept in
-  // its frame (on kitchen_dev's accelerometer run IDF1 70.4 % with the improved tracker, 85.2 %
-  // so: docs/quality.md).
+  // its frame. --tracking auto (the default) takes the one that fits (hope::defaultIdentity),
+  // once the poses are read.
   const bool fixed_frame = seq.source == hope::tools::OrientationSource::kGroundTruth;
-  if (!o.values.count("--tracking"))
-    pipeline_options.identity = fixed_frame ? hope::Identity::kMap : hope::Identity::kOdometry;
   std::string tracking = hope::toString(pipeline_options.identity);
   const bool use_map = hope::keepsSurfaceMap(pipeline_options.identity);
   if (pipeline_options.identity == hope::Identity::kMap && !fixed_frame) {
@@ -632,23 +630,27 @@ int runSequence(const Options& o) {
   // only turns): they cannot put a moving camera's surfaces in one fixed frame, and the map
   // would take every surface seen from a new place for a new one. The scene's odometry finds
   // the position by default; a warning when the map was asked for.
-  if (fixed_frame && pipeline_options.identity == hope::Identity::kMap &&
-      !positionsChange(listing.frames)) {
-    if (!o.values.count("--tracking")) {
-      pipeline.setOptions([&] {
-        hope::PipelineOptions odometry = pipeline.options();
-        odometry.identity = hope::Identity::kOdometry;
-        return odometry;
-      }());
-      tracking = hope::toString(hope::Identity::kOdometry);
+  const bool positions_change = fixed_frame && positionsChange(listing.frames);
+  const hope::PoseInput input =
+      positions_change ? hope::PoseInput::kFixedFramePoses : hope::PoseInput::kOrientation;
+  if (pipeline_options.identity == hope::Identity::kAuto) {
+    pipeline.setOptions([&] {
+      hope::PipelineOptions resolved = pipeline.options();
+      resolved.identity = hope::defaultIdentity(input);
+      return resolved;
+    }());
+    tracking = hope::toString(pipeline.options().identity);
+    if (fixed_frame && !positions_change) {
       std::cerr << "hope_extract: the poses' position never changes (an orientation only): the "
                    "scene's odometry finds it, and the surface map is kept in its frame\n";
-    } else {
-      std::cerr << "hope_extract: warning: the poses' position never changes (an orientation "
-                   "only?): the surface map needs poses in a fixed frame; if the camera moved, "
-                   "its ids will not hold (--tracking odometry)\n";
     }
+  } else if (fixed_frame && !positions_change &&
+             pipeline_options.identity == hope::Identity::kMap) {
+    std::cerr << "hope_extract: warning: the poses' position never changes (an orientation "
+                 "only?): the surface map needs poses in a fixed frame; if the camera moved, "
+                 "its ids will not hold (--tracking odometry)\n";
   }
+
   const bool depth_frames = listing.layout == "TUM RGB-D";
   if (!depth_frames && (o.values.count("--intrinsics") || o.values.count("--depth-scale"))) {
     throw std::invalid_argument("--intrinsics and --depth-scale are for depth images; '" + seq.dir +

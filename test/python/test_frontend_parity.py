@@ -47,11 +47,10 @@ def python_run(folder, mode):
         intrinsics = [float(v) for v in f.read().split()]
     poses = read_stamped(os.path.join(folder, "groundtruth.txt"))
     accel = read_stamped(os.path.join(folder, "accelerometer.txt"))
-    pipeline = hope.Pipeline(
-        # hope_extract's defaults: the map with poses, the odometry's map with an orientation only.
-        tracking_mode="map" if mode == "poses" else "odometry",
-        levelling="estimate" if mode == "scene" else "off",
-    )
+    # Both front-ends at their default tracking mode, auto: the map with poses, the odometry's
+    # map with an orientation only (hope::defaultIdentity), which the first frame decides.
+    pipeline = hope.Pipeline(levelling="estimate" if mode == "scene" else "off")
+    assert pipeline.tracking_mode == "auto", pipeline.tracking_mode
     frames = []
     for stamp, (name,) in read_stamped(os.path.join(folder, "depth.txt")):
         depth = cv2.imread(os.path.join(folder, name), cv2.IMREAD_UNCHANGED)
@@ -71,6 +70,8 @@ def python_run(folder, mode):
             else:
                 result = pipeline.process(points, stamp)
         frames.append((stamp, result))
+    expected = "map" if mode == "poses" else "odometry"
+    assert pipeline.tracking_mode == expected, (mode, pipeline.tracking_mode)
     return frames
 
 

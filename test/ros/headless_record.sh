@@ -5,9 +5,11 @@
 # while it falls behind), with the planes of
 # the scene's ground truth, and /diagnostics must be readable by `rostopic echo` (the Python
 # message classes installed) and count every frame. Run by ctest.
-# --accelerometer: the same replay with the bag's accelerometer alone (orientation_source imu,
-# tracking_mode odometry; heights then relative to the camera), against hope_extract
-# --accelerometer --tracking odometry: the scene's odometry gives both front-ends the same ids.
+# Both front-ends keep their default tracking mode (auto): with tf into the bag's fixed frame
+# (world) and with the folder's world poses, each keeps the surface map.
+# --accelerometer: the same replay with the bag's accelerometer alone (orientation_source imu;
+# heights then relative to the camera), against hope_extract --accelerometer: by default both
+# keep the map in the frame of the scene's odometry, and give the same ids.
 # Usage: headless_record.sh [--accelerometer] BUILD_DIR BAG EXPECTED_HEIGHTS...
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -25,9 +27,9 @@ source "$(dirname "$0")/replay_env.sh"
 
 # At a fifth of the recorded rate (6 frames a second), so that hope keeps up even when built
 # with sanitizers: a replay faster than hope drops frames, and counts them in /diagnostics.
-launch_args=() cli_args=(--tracking improved)
+launch_args=() cli_args=()
 if $accelerometer; then
-  launch_args=(orientation_source:=imu tracking_mode:=odometry)
+  launch_args=(orientation_source:=imu)
 fi
 roslaunch -p "$port" hope tum.launch bag:="$bag" record:="$work/planes.bag" rate:=0.2 \
   "${launch_args[@]}" >"$work/launch.log" 2>&1 &
@@ -71,7 +73,7 @@ ln -s "$source_folder/depth" "$folder/depth"
 cp "$source_folder/groundtruth.txt" "$source_folder/intrinsics.txt" \
   "$source_folder/accelerometer.txt" "$folder/"
 if $accelerometer; then
-  cli_args=(--accelerometer "$folder/accelerometer.txt" --tracking odometry)
+  cli_args=(--accelerometer "$folder/accelerometer.txt")
 fi
 span=$folder/groundtruth.txt
 ! $accelerometer || span=$source_folder/depth.txt  # every frame

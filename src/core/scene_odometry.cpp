@@ -447,10 +447,14 @@ bool SceneOdometry::align(const std::vector<std::vector<Eigen::Vector3d>>& movin
   const Eigen::Matrix3d rotation = turn(motion.yaw);
   int near = 0;
   for (const Eigen::Vector3d& p : moving.front()) {
+    const Eigen::Vector3d q = rotation * p + motion.shift;
     double distance;
-    if (nearestFlat(finest, rotation * p + motion.shift, distance) >= 0 && distance < finest.size) {
-      ++near;
-    }
+    const std::int32_t v = nearestFlat(finest, q, distance);
+    if (v < 0) continue;
+    // On the surface, as the alignment measures it (point to plane): along it, the centroids
+    // of sparse samples (a 160-pixel image's) lie up to a voxel apart however well aligned.
+    const std::size_t u = static_cast<std::size_t>(v);
+    if (std::fabs(finest.normal[u].dot(q - finest.centroid[u])) < 0.5 * finest.size) ++near;
   }
   overlap = moving.front().empty()
                 ? 0.0

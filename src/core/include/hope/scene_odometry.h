@@ -45,9 +45,11 @@ struct OdometryParams {
   // of a shift along them. A frame with nothing else in view keeps the shift and turn it
   // started from (none, or the last frame's motion), degrees.
   double level_tilt_deg = 21.8;
-  // The share of the moving frame's finest voxels that lie within a voxel of the last frame's
-  // surfaces once aligned; below it the alignment is not trusted (OdometryStep::tracked) and
-  // other starting motions are tried. A frame that turned to a new view shares little.
+  // The share of the moving frame's finest voxels that lie on the last frame's surfaces once
+  // aligned (within half a voxel of the plane of a flat voxel within 1.5 voxels: along the
+  // surface, sparse samples' centroids lie up to a voxel apart); below it the alignment is not
+  // trusted (OdometryStep::tracked) and other starting motions are tried. A frame that turned
+  // to a new view shares little.
   double min_overlap = 0.33;
 };
 

@@ -130,9 +130,9 @@ StartupSettings loadStartupSettings(ros::NodeHandle& pnh, const std::string& nod
     s.pose_input = hope::PoseInput::kFixedFramePoses;
   } else if (s.source == "tf" && !s.surface_map &&
              pnh.param<std::string>("tracking_mode", "auto") == "auto") {
-    notes.push_back("tracking_mode auto: odometry, since reference_frame '" + s.reference_frame +
-                    "' is not one REP 105 names fixed in the world (map, odom, world, earth); "
-                    "set tracking_mode map if it is fixed");
+    s.auto_tracking = "tracking_mode auto: odometry, since reference_frame '" + s.reference_frame +
+                      "' is not one REP 105 names fixed in the world (map, odom, world, earth); "
+                      "set tracking_mode map if it is fixed";
   }
   p.identity = hope::defaultIdentity(s.pose_input);
   if ((s.source == "imu" || s.source == "fixed" || s.source == "scene") &&

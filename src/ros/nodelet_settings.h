@@ -41,6 +41,8 @@ struct StartupSettings {
   // into a frame REP 105 names fixed in the world (map, odom, world, earth), else an
   // orientation alone (hope cannot tell whether another frame moves with the robot).
   hope::PoseInput pose_input = hope::PoseInput::kOrientation;
+  // With tf into another frame and tracking_mode auto: what auto took and why, for the log.
+  std::string auto_tracking;
 };
 
 // Reads and checks the start-up parameters of the nodelet `node_name` from `pnh`. Each problem

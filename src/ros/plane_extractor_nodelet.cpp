@@ -40,6 +40,7 @@ void PlaneExtractorNodelet::onInit() {
   settings_ = loadStartupSettings(pnh, getName(), problems, notes);
   for (const auto& p : problems) NODELET_ERROR("hope: %s", p.c_str());
   for (const auto& n : notes) NODELET_WARN("hope: %s", n.c_str());
+  if (!settings_.auto_tracking.empty()) NODELET_INFO("hope: %s", settings_.auto_tracking.c_str());
   // surface_map is tracking_mode map under its old name: dynamic_reconfigure reads it at once.
   if (settings_.surface_map && !pnh.hasParam("tracking_mode")) {
     pnh.setParam("tracking_mode", std::string("map"));

@@ -5,7 +5,8 @@
 # hope drops, refuses or leaves unanswered a cloud after the warm-up (the first fifth), or when
 # the manager's resident memory grows by 5 % or more after it. Run it on an otherwise idle
 # machine. Needs scripts/test.sh (or build.sh) first: it replays the test bag written by the
-# build. Usage: [SOAK_ARGS="cloud_queue:=2"] scripts/soak.sh [minutes]
+# build. Usage: [SOAK_ARGS="cloud_queue:=2 rate_hz:=15 tracking_mode:=improved"] scripts/soak.sh
+# [minutes]
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -459,7 +459,8 @@ class PyPipeline {
   }
   const hope::PipelineOptions& options() const { return pipeline_.options(); }
   // "auto" until the first frame resolves it.
-  std::string trackingMode() const {
+  std::string trackingMode() {
+    std::lock_guard<std::mutex> lock(mutex_);  // process() resolves it with the GIL released
     return hope::toString(identity_asked_ == hope::Identity::kAuto ? identity_asked_
                                                                    : pipeline_.options().identity);
   }

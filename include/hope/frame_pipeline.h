@@ -199,10 +199,10 @@ struct Frame {
   // the first frame, which starts its world, and where it lost the scene: the map's own gates
   // then keep what it misplaces from taking an id), whether this frame started its world (the
   // first frame, and the first after a reset, a time jump or a new r_z), the share of the
-  // frame's voxels that met
-  // the last frame's surfaces, and its milliseconds. The frame's planes and objects stay in
-  // the given orientation's frame; the map holds them in the odometry's world, where
-  // world_from_frame carries this frame's (the orientation's reference frame's) coordinates.
+  // frame's voxels that lie on the last frame's surfaces (OdometryParams::min_overlap), and its
+  // milliseconds. The frame's planes and objects stay in the given orientation's frame; the map
+  // holds them in the odometry's world, where world_from_frame carries this frame's (the
+  // orientation's reference frame's) coordinates.
   struct Odometry {
     bool tracked = false;
     bool started = false;
